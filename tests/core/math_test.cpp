@@ -1,0 +1,2 @@
+// placeholder: filled by the module work
+#include <gtest/gtest.h>
