@@ -1,0 +1,188 @@
+#include "determinism_suite.hpp"
+
+#include <cstring>
+
+#include "vtm/core/eigen.hpp"
+#include "vtm/core/image.hpp"
+#include "vtm/core/math.hpp"
+#include "vtm/core/random.hpp"
+
+namespace vtm::determinism {
+namespace {
+
+// FNV-1a over a canonical (little-endian) byte order: the same value hashes the same on
+// big- and little-endian targets.
+class Hasher {
+public:
+    void addU64(std::uint64_t v) noexcept {
+        for (int i = 0; i < 8; ++i) {
+            h_ ^= (v >> (8 * i)) & 0xFFU;
+            h_ *= 0x100000001B3ULL;
+        }
+    }
+    void addDouble(double d) noexcept {
+        std::uint64_t bits = 0U;
+        std::memcpy(&bits, &d, sizeof bits);
+        addU64(bits);
+    }
+    void addI64(std::int64_t v) noexcept { addU64(static_cast<std::uint64_t>(v)); }
+    [[nodiscard]] std::uint64_t value() const noexcept { return h_; }
+
+private:
+    std::uint64_t h_ = 0xCBF29CE484222325ULL;
+};
+
+std::uint64_t eigenSection() noexcept {
+    Hasher h;
+    Random rng(42U);
+    for (int trial = 0; trial < 2000; ++trial) {
+        Mat3 a;
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) {
+                a(r, c) = rng.uniform01() * 2.0 - 1.0;
+            }
+        }
+        a += Mat3::Identity() * 0.5;
+        // One draw per statement: the evaluation order of function arguments is
+        // unspecified, and GCC orders them differently on x86-64 and PowerPC.
+        const double b0 = rng.uniform01();
+        const double b1 = rng.uniform01() - 0.5;
+        const double b2 = rng.uniform01() * 3.0;
+        const Vec3 b(b0, b1, b2);
+        const Vec3 xLu = a.partialPivLu().solve(b);
+        const Mat3 spd = a * a.transpose() + Mat3::Identity() * 1e-3;
+        const Vec3 xLlt = spd.llt().solve(b);
+        const Mat3 inv = a.inverse();
+        const double qw = rng.uniform01() - 0.5;
+        const double qx = rng.uniform01() - 0.5;
+        const double qy = rng.uniform01();
+        const Quat q = Quat(qw, qx, qy, 0.3).normalized();
+        const Vec3 rotated = q * b;
+        const Vec3 cross = xLu.cross(xLlt);
+        for (int i = 0; i < 3; ++i) {
+            h.addDouble(xLu(i));
+            h.addDouble(xLlt(i));
+            h.addDouble(rotated(i));
+            h.addDouble(cross(i));
+            h.addDouble(inv(i, (i + trial) % 3));
+        }
+        h.addDouble(a.determinant());
+        h.addDouble(q.toRotationMatrix().trace());
+    }
+    return h.value();
+}
+
+std::uint64_t mathSection() noexcept {
+    Hasher h;
+    for (int i = -3000; i <= 3000; ++i) {
+        const double x = static_cast<double>(i) * 0.0123456789;
+        h.addDouble(math::exp(x * 0.2));
+        h.addDouble(math::log(math::exp(x * 0.01) + static_cast<double>(i + 3001)));
+        h.addDouble(math::sin(x));
+        h.addDouble(math::cos(x * 3.7));
+        h.addDouble(math::atan2(x, 1.0 - x * 0.5));
+        h.addDouble(math::sqrt(static_cast<double>(i + 3000) * 1.7));
+    }
+    return h.value();
+}
+
+std::uint64_t randomSection() noexcept {
+    Hasher h;
+    Random rng(20261122U);
+    for (int i = 0; i < 5000; ++i) {
+        h.addU64(rng.nextU64());
+        h.addDouble(rng.uniform01());
+        h.addDouble(rng.normal());
+        h.addI64(rng.uniformInt(-1000, 1000));
+    }
+    return h.value();
+}
+
+constexpr std::int32_t kW = 97;
+constexpr std::int32_t kH = 61;
+
+std::uint64_t imageSection() noexcept {
+    static std::uint8_t pixels[kW * kH];
+    static std::int32_t sums[kW * kH];
+    Random rng(7U);
+    const ImageView<std::uint8_t> img(pixels, kW, kH);
+    for (std::int32_t y = 0; y < kH; ++y) {
+        for (std::int32_t x = 0; x < kW; ++x) {
+            img.at(x, y) = static_cast<std::uint8_t>((x * 7 + y * 13 + rng.uniformInt(0, 40)) & 0xFF);
+        }
+    }
+    // 5x5 box sums (clamped borders), Sobel-like gradients and a threshold count.
+    const ImageView<std::int32_t> box(sums, kW, kH);
+    Hasher h;
+    std::int64_t above = 0;
+    for (std::int32_t y = 0; y < kH; ++y) {
+        for (std::int32_t x = 0; x < kW; ++x) {
+            std::int32_t s = 0;
+            for (std::int32_t dy = -2; dy <= 2; ++dy) {
+                for (std::int32_t dx = -2; dx <= 2; ++dx) {
+                    const std::int32_t xx = x + dx < 0 ? 0 : (x + dx >= kW ? kW - 1 : x + dx);
+                    const std::int32_t yy = y + dy < 0 ? 0 : (y + dy >= kH ? kH - 1 : y + dy);
+                    s += img.at(xx, yy);
+                }
+            }
+            box.at(x, y) = s;
+            const std::int32_t gx = (x > 0 && x < kW - 1) ? img.at(x + 1, y) - img.at(x - 1, y) : 0;
+            const std::int32_t gy = (y > 0 && y < kH - 1) ? img.at(x, y + 1) - img.at(x, y - 1) : 0;
+            above += (gx * gx + gy * gy > 400) ? 1 : 0;
+            h.addI64(s);
+            h.addI64(gx * 3 - gy);
+        }
+    }
+    h.addI64(above);
+    return h.value();
+}
+
+// Expressions of the form a*b + c where the product is nearly cancelled by c: rounding
+// the product before the addition (separate multiply and add, as written) and not
+// rounding it (a fused multiply-add) give different bits for most inputs.
+std::uint64_t fmaSensitiveSection() noexcept {
+    Hasher h;
+    Random rng(99U);
+    double acc = 0.0;
+    for (int i = 0; i < 4000; ++i) {
+        const double a = 1.0 + rng.uniform01() * 1e-3;
+        const double b = 1.0 / a + rng.uniform01() * 1e-12;
+        const double c = -1.0;
+        const double r = a * b + c;
+        acc = acc * 0.5 + r;
+        const double u2 = rng.uniform01();
+        const double v2 = rng.uniform01();
+        const Vec3 u(a, b, u2);
+        const Vec3 v(b, -a, v2);
+        h.addDouble(r);
+        h.addDouble(u.dot(v));
+    }
+    h.addDouble(acc);
+    return h.value();
+}
+
+}  // namespace
+
+const char* sectionName(Section s) noexcept {
+    switch (s) {
+        case Section::kEigen: return "eigen";
+        case Section::kMath: return "math";
+        case Section::kRandom: return "random";
+        case Section::kImage: return "image";
+        case Section::kFmaSensitive: return "fma_sensitive";
+    }
+    return "unknown";
+}
+
+std::uint64_t sectionHash(Section s) noexcept {
+    switch (s) {
+        case Section::kEigen: return eigenSection();
+        case Section::kMath: return mathSection();
+        case Section::kRandom: return randomSection();
+        case Section::kImage: return imageSection();
+        case Section::kFmaSensitive: return fmaSensitiveSection();
+    }
+    return 0U;
+}
+
+}  // namespace vtm::determinism

@@ -1,0 +1,26 @@
+// A fixed computation suite whose result bits must be identical on every target and at
+// every optimisation level (docs/flight-rules.md, "Deterministic"). It is compiled with
+// the flight policy, exactly like flight code, and hashes the bit patterns of:
+//   - Eigen fixed-size 3x3 work: LU and Cholesky solves, inverses, quaternion rotations;
+//   - vtm::math functions (exp, log, sin, cos, atan2, sqrt) over fixed sweeps;
+//   - vtm::Random sequences (integers, uniforms, normals);
+//   - integer image operations (box sums, gradients, thresholds) on a generated image;
+//   - FMA-sensitive expressions (a*b + c with cancellation): any contraction into a
+//     fused multiply-add by the compiler changes these bits.
+#pragma once
+
+#include <cstdint>
+
+namespace vtm::determinism {
+
+enum class Section : std::uint8_t { kEigen = 0, kMath = 1, kRandom = 2, kImage = 3, kFmaSensitive = 4 };
+constexpr int kSectionCount = 5;
+
+// Name of a section for reports ("eigen", "math", ...).
+const char* sectionName(Section s) noexcept;
+
+// Hash (64-bit FNV-1a over the little-endian bytes of each value's bit pattern, so that
+// byte order does not matter) of one section of the suite.
+std::uint64_t sectionHash(Section s) noexcept;
+
+}  // namespace vtm::determinism
