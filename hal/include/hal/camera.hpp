@@ -31,7 +31,6 @@ struct CameraDescription {
 
 class Camera {
 public:
-    virtual ~Camera() = default;
 
     // Static description: size, bit depth, geometric model.
     [[nodiscard]] virtual Status describe(CameraDescription& out) const = 0;
@@ -51,9 +50,15 @@ public:
     }
 
 protected:
+    // Not deletable through the interface, hence no virtual destructor: a virtual one
+    // makes every driver emit a deleting destructor that references operator delete
+    // (the heap-symbol check rejects it). Drivers are statically allocated and final.
     Camera() = default;
+    ~Camera() = default;
     Camera(const Camera&) = default;
     Camera& operator=(const Camera&) = default;
+    Camera(Camera&&) = default;
+    Camera& operator=(Camera&&) = default;
 };
 
 }  // namespace vtm::hal

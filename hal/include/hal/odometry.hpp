@@ -22,7 +22,6 @@ struct PoseEstimate {
 
 class Odometry {
 public:
-    virtual ~Odometry() = default;
 
     // Pose at time t (monotonic ns, same clock as FrameInfo::timestamp_ns).
     // Failures: kNoData (no pose covers t), kCorruptData (NaN or non-unit quaternion),
@@ -30,9 +29,15 @@ public:
     [[nodiscard]] virtual Status poseAt(std::uint64_t timestamp_ns, PoseEstimate& out) = 0;
 
 protected:
+    // Not deletable through the interface, hence no virtual destructor: a virtual one
+    // makes every driver emit a deleting destructor that references operator delete
+    // (the heap-symbol check rejects it). Drivers are statically allocated and final.
     Odometry() = default;
+    ~Odometry() = default;
     Odometry(const Odometry&) = default;
     Odometry& operator=(const Odometry&) = default;
+    Odometry(Odometry&&) = default;
+    Odometry& operator=(Odometry&&) = default;
 };
 
 // Checks what every driver must check before handing a pose out: finite numbers,

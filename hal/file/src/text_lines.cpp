@@ -1,0 +1,174 @@
+#include "text_lines.hpp"
+
+#include <cerrno>
+#include <cstdlib>
+#include <fcntl.h>
+#include <unistd.h>
+
+namespace vtm::hal::detail {
+namespace {
+
+// read() interrupted by a signal is retried this many times before it counts as a failure,
+// so that a signal storm cannot hold init in an unbounded loop.
+constexpr int kMaxInterruptedReads = 16;
+
+bool isFieldSeparator(char c) noexcept {
+    // '\r' too: a manifest written on Windows ends its lines with "\r\n".
+    return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+}  // namespace
+
+TextFile::~TextFile() {
+    if (fd_ >= 0) {
+        // A read-only descriptor has nothing to flush: a close error changes nothing.
+        (void)::close(fd_);
+    }
+}
+
+Status TextFile::open(const char* path) noexcept {
+    fd_ = ::open(path, O_RDONLY | O_CLOEXEC);  // NOLINT(cppcoreguidelines-pro-type-vararg): POSIX open(), no mode
+    if (fd_ < 0) {
+        return Status(StatusCode::kIoError, reasons_.open_failed, errno);
+    }
+    return Status::ok();
+}
+
+Status TextFile::refill() noexcept {
+    for (int attempt = 0; attempt < kMaxInterruptedReads; ++attempt) {
+        const ssize_t n = ::read(fd_, chunk_, kChunkBytes);
+        if (n >= 0) {
+            chunk_len_ = static_cast<std::size_t>(n);
+            chunk_pos_ = 0U;
+            eof_ = (n == 0);
+            return Status::ok();
+        }
+        if (errno != EINTR) {
+            return Status(StatusCode::kIoError, reasons_.read_failed, errno);
+        }
+    }
+    return Status(StatusCode::kIoError, reasons_.read_failed, EINTR);
+}
+
+Status TextFile::nextLine() noexcept {
+    std::size_t length = 0U;
+    bool any = false;
+    // Each pass consumes one character or refills the chunk; a line longer than
+    // kMaxLineChars ends the loop with an error, so the bound is two passes per character.
+    for (std::size_t pass = 0U; pass < 2U * (file_limits::kMaxLineChars + 2U); ++pass) {
+        if (chunk_pos_ == chunk_len_) {
+            if (eof_) {
+                break;
+            }
+            VTM_RETURN_IF_ERROR(refill());
+            continue;
+        }
+        const char c = chunk_[chunk_pos_];
+        ++chunk_pos_;
+        any = true;
+        if (c == '\n') {
+            break;
+        }
+        if (c == '\0') {
+            return Status(StatusCode::kCorruptData, reasons_.nul_byte, static_cast<std::int64_t>(line_number_ + 1U));
+        }
+        if (length == file_limits::kMaxLineChars) {
+            return Status(StatusCode::kUnsupported, reasons_.line_too_long,
+                          static_cast<std::int64_t>(line_number_ + 1U));
+        }
+        line_[length] = c;
+        ++length;
+    }
+    if (!any) {
+        return Status(StatusCode::kNoData, "text file: end of file");
+    }
+    if (line_number_ == file_limits::kMaxTextLines) {
+        return Status(StatusCode::kUnsupported, reasons_.too_many_lines,
+                      static_cast<std::int64_t>(line_number_ + 1U));
+    }
+    line_[length] = '\0';
+    ++line_number_;
+    return Status::ok();
+}
+
+LineTokens splitLine(char* line) noexcept {
+    LineTokens tokens;
+    std::size_t i = 0U;
+    // The line is at most kMaxLineChars long and NUL-terminated (TextFile guarantees both).
+    for (; i <= file_limits::kMaxLineChars && line[i] != '\0'; ++i) {
+        const bool starts_field = !isFieldSeparator(line[i]) && (i == 0U || line[i - 1U] == '\0');
+        if (isFieldSeparator(line[i])) {
+            line[i] = '\0';
+        } else if (starts_field) {
+            if (tokens.count == file_limits::kMaxLineTokens) {
+                tokens.too_many = true;
+                break;
+            }
+            tokens.token[tokens.count] = &line[i];
+            ++tokens.count;
+        }
+    }
+    return tokens;
+}
+
+bool isBlankOrComment(const LineTokens& tokens) noexcept {
+    return tokens.count == 0U || tokens.token[0][0] == '#';
+}
+
+bool textEquals(const char* a, const char* b) noexcept {
+    for (std::size_t i = 0U; i <= file_limits::kMaxLineChars; ++i) {
+        if (a[i] != b[i]) {
+            return false;
+        }
+        if (a[i] == '\0') {
+            return true;
+        }
+    }
+    return false;
+}
+
+bool parseUnsigned(const char* text, std::uint64_t max_value, std::uint64_t& out) noexcept {
+    std::uint64_t value = 0U;
+    std::size_t digits = 0U;
+    // 20 digits hold any uint64; a longer field is refused rather than scanned.
+    for (; digits <= 20U && text[digits] != '\0'; ++digits) {
+        const char c = text[digits];
+        if (c < '0' || c > '9') {
+            return false;
+        }
+        const auto d = static_cast<std::uint64_t>(c - '0');
+        if (d > max_value || value > (max_value - d) / 10U) {
+            return false;
+        }
+        value = value * 10U + d;
+    }
+    if (digits == 0U || digits > 20U) {
+        return false;
+    }
+    out = value;
+    return true;
+}
+
+bool parseReal(const char* text, double& out) noexcept {
+    if (text[0] == '\0') {
+        return false;
+    }
+    char* end = nullptr;
+    const double value = std::strtod(text, &end);
+    if (end == text || *end != '\0') {
+        return false;
+    }
+    out = value;
+    return true;
+}
+
+std::size_t boundedLength(const char* text, std::size_t limit) noexcept {
+    for (std::size_t i = 0U; i <= limit; ++i) {
+        if (text[i] == '\0') {
+            return i;
+        }
+    }
+    return limit + 1U;
+}
+
+}  // namespace vtm::hal::detail
