@@ -15,6 +15,7 @@ void* Arena::allocate(std::size_t bytes, std::size_t alignment) noexcept {
         return nullptr;
     }
     // Pad from the absolute address so the block is aligned whatever the pool's base.
+    // NOLINTNEXTLINE(cppcoreguidelines-pro-type-reinterpret-cast): alignment needs the address as an integer
     const std::uintptr_t base = reinterpret_cast<std::uintptr_t>(pool_) + used_;
     const std::size_t padding =
         static_cast<std::size_t>((alignment - (base & (alignment - 1U))) & (alignment - 1U));

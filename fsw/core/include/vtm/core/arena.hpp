@@ -23,6 +23,7 @@ public:
     static constexpr std::size_t kDefaultAlignment = 16U;
 
     Arena(std::byte* pool, std::size_t capacityBytes) noexcept;
+    ~Arena() = default;
     Arena(const Arena&) = delete;
     Arena& operator=(const Arena&) = delete;
 
