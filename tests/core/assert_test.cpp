@@ -40,7 +40,6 @@ TEST(Assert, CaptureRestoresThePreviousHook) {
 }
 
 TEST(AssertDeathTest, DefaultHookHalts) {
-    GTEST_FLAG_SET(death_test_style, "threadsafe");
     EXPECT_DEATH((void)checkedHalf(3), "");
 }
 

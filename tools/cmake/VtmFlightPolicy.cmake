@@ -15,7 +15,8 @@ target_compile_options(vtm_flight_policy INTERFACE
   -fno-exceptions -fno-rtti
   -ffp-contract=off -fno-fast-math
   $<$<CXX_COMPILER_ID:GNU>:-fstack-usage>
-  $<$<CXX_COMPILER_ID:GNU>:-fcallgraph-info=su>)
+  $<$<CXX_COMPILER_ID:GNU>:-fcallgraph-info=su>
+  ${VTM_FLIGHT_CPU_FLAGS})  # CPU flags for flight code only (set by a toolchain file)
 target_compile_definitions(vtm_flight_policy INTERFACE
   EIGEN_DONT_VECTORIZE EIGEN_NO_MALLOC EIGEN_MAX_STATIC_ALIGN_BYTES=0
   VTM_FLIGHT_CODE=1)

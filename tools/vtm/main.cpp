@@ -1,2 +1,68 @@
+// vtm: the VTM command line (ground side).
+//   vtm            version, build configuration and the static memory budget
+//   vtm version    version only
+//   vtm budget     the static memory budget of the flight build
+// Later issues add the mapping commands (stereo, descent, run, ...).
+#include <CLI/CLI.hpp>
 #include <cstdio>
-int main() { std::puts("vtm"); return 0; }
+
+#include "build_info.hpp"
+#include "memory_budget.hpp"
+
+namespace {
+
+void printVersion() { std::printf("vtm %s (Visual Terrain Mapper)\n", vtm::tools::kVersion); }
+
+void printBuild() {
+    using namespace vtm::tools;
+    std::printf("\nBuild configuration\n");
+    std::printf("  target        %s\n", kTarget);
+    std::printf("  build type    %s\n", kBuildType);
+    std::printf("  compiler      %s\n", kCompiler);
+    std::printf("  C++ flags     %s\n", kCxxFlags);
+    std::printf("  flight policy %s\n", kFlightFlags);
+    std::printf("  sanitizers    %s\n", kSanitizers[0] != '\0' ? kSanitizers : "none");
+}
+
+void printGroup(vtm::tools::BudgetGroup group, const char* title) {
+    std::size_t n = 0;
+    const vtm::tools::BudgetEntry* e = vtm::tools::memoryBudget(&n);
+    std::printf("\n%s\n", title);
+    std::printf("  %-46s %-14s %12s\n", "object", "library", "bytes");
+    for (std::size_t i = 0; i < n; ++i) {
+        if (e[i].group == group) {
+            std::printf("  %-46s %-14s %12zu\n", e[i].name, e[i].owner, e[i].bytes);
+        }
+    }
+    std::printf("  %-46s %-14s %12zu\n", "total", "", vtm::tools::memoryBudgetTotal(group));
+}
+
+void printBudget() {
+    printGroup(vtm::tools::BudgetGroup::kFlight, "Static memory budget: default flight configuration");
+    printGroup(vtm::tools::BudgetGroup::kPlaybackDriver,
+               "Static memory of the file-playback driver (desk and HIL only, hal/file)");
+    std::printf("\n  Per-library .text/.rodata/.data/.bss and worst-case stack per target:\n"
+                "  tools/budget/vtm_budget.py BUILD_DIR... (docs/budgets.md)\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"vtm: Visual Terrain Mapper command line"};
+    app.require_subcommand(0, 1);
+    CLI::App* version = app.add_subcommand("version", "print the version");
+    CLI::App* budget = app.add_subcommand("budget", "print the static memory budget of the flight build");
+    CLI11_PARSE(app, argc, argv);
+    if (version->parsed()) {
+        printVersion();
+        return 0;
+    }
+    if (budget->parsed()) {
+        printBudget();
+        return 0;
+    }
+    printVersion();
+    printBuild();
+    printBudget();
+    return 0;
+}
