@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# The README's test command. Installs what it needs (as root; otherwise prints the
+# apt-get line), builds and runs the host tests and the flight-policy checks.
+#   tools/test.sh            host Release build + unit tests + policy checks
+#   tools/test.sh --all      also: ASan+UBSan build, static analysis (clang-tidy,
+#                            cppcheck), and all five cross targets under qemu-user,
+#                            then the static-memory / stack budget of every target
+#   tools/test.sh --targets "aarch64 ppc750"   host + the named cross targets only
+# Environment: JOBS (parallel build jobs, default: number of cores).
+set -uo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$here"
+ALL_TARGETS="aarch64 armhf ppc750 leon3 riscv64"
+all=0
+targets=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --all) all=1; targets="$ALL_TARGETS"; shift ;;
+    --targets) targets="$2"; shift 2 ;;
+    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+    *) echo "test.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+JOBS=${JOBS:-$(nproc)}
+
+# ---- packages ---------------------------------------------------------------------
+pkgs="cmake ninja-build g++ googletest libeigen3-dev libstb-dev libcli11-dev python3"
+[ -n "$targets" ] && pkgs="$pkgs qemu-user"
+[ "$all" = 1 ] && pkgs="$pkgs clang-tidy cppcheck valgrind"
+for t in $targets; do
+  case "$t" in
+    aarch64) pkgs="$pkgs g++-aarch64-linux-gnu" ;;
+    armhf) pkgs="$pkgs g++-arm-linux-gnueabihf" ;;
+    ppc750) pkgs="$pkgs g++-powerpc-linux-gnu" ;;
+    leon3) pkgs="$pkgs g++-sparc64-linux-gnu g++-12-multilib-sparc64-linux-gnu" ;;
+    riscv64) pkgs="$pkgs g++-riscv64-linux-gnu" ;;
+    *) echo "test.sh: unknown target '$t' (known: $ALL_TARGETS)" >&2; exit 2 ;;
+  esac
+done
+missing=""
+for p in $pkgs; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  if [ "$(id -u)" = 0 ]; then
+    echo "== installing:$missing"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq && apt-get install -y -qq --no-install-recommends $missing || {
+      echo "test.sh: apt-get install failed" >&2; exit 1; }
+  else
+    echo "test.sh: missing packages. Run as root:" >&2
+    echo "  apt-get update && apt-get install -y --no-install-recommends$missing" >&2
+    exit 1
+  fi
+fi
+
+# ---- steps ------------------------------------------------------------------------
+passed=0; failed=0; failures=""
+report=build/test-report.md
+mkdir -p build
+printf '# tools/test.sh report\n\n| step | result | seconds |\n|---|---|---|\n' > "$report"
+
+step() {  # step NAME COMMAND...: runs, times, records
+  local name="$1"; shift
+  local t0=$SECONDS
+  echo "== $name"
+  if "$@"; then
+    echo "| $name | ok | $((SECONDS - t0)) |" >> "$report"
+  else
+    echo "| $name | FAILED | $((SECONDS - t0)) |" >> "$report"
+    failures="$failures $name"
+  fi
+}
+
+ctest_counted() {  # ctest_counted PRESET: runs ctest, adds its counts to the totals
+  local log="build/ctest-$1.log"
+  ctest --preset "$1" -j "$JOBS" 2>&1 | tee "$log" | grep -E "tests passed|tests failed|\*\*\*Failed|Not Run|Timeout|\(Failed\)"
+  local rc=${PIPESTATUS[0]}
+  local line total nfail
+  line=$(grep -E "tests passed, [0-9]+ tests? failed out of [0-9]+" "$log" | tail -n 1)
+  total=$(sed -E 's/.* out of ([0-9]+).*/\1/' <<< "$line")
+  nfail=$(sed -E 's/.*passed, ([0-9]+) tests? failed.*/\1/' <<< "$line")
+  if [ -n "$line" ]; then
+    passed=$((passed + total - nfail)); failed=$((failed + nfail))
+  else
+    failed=$((failed + 1))
+  fi
+  return "$rc"
+}
+
+build_preset() { cmake --preset "$1" > "build/configure-$1.log" 2>&1 || { cat "build/configure-$1.log"; return 1; }
+                 cmake --build --preset "$1" -j "$JOBS"; }
+
+memcheck() {  # every host unit-test executable under valgrind: uninitialised reads, leaks
+  local rc=0 exe
+  for exe in "$1"/tests/vtm_*_tests; do
+    valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite \
+      "$exe" --gtest_filter='-*DeathTest*' --gtest_brief=1 > "build/memcheck-$(basename "$exe").log" 2>&1 \
+      || { echo "memcheck: $exe"; tail -n 30 "build/memcheck-$(basename "$exe").log"; rc=1; }
+  done
+  return $rc
+}
+
+step "host-release build" build_preset host-release
+step "host-release tests" ctest_counted host-release
+
+if [ "$all" = 1 ]; then
+  step "host-asan build" build_preset host-asan
+  step "host-asan tests" ctest_counted host-asan
+  step "static analysis" tools/checks/static_analysis.sh build/host-release
+  step "valgrind memcheck (host unit tests)" memcheck build/host-release
+fi
+budget_dirs="build/host-release"
+for t in $targets; do
+  step "$t build" build_preset "$t"
+  step "$t tests" ctest_counted "$t"
+  budget_dirs="$budget_dirs build/$t"
+done
+if [ -n "$targets" ]; then
+  step "budget (static memory, worst stack)" python3 tools/budget/vtm_budget.py $budget_dirs
+fi
+
+echo
+cat "$report"
+if [ -n "$failures" ]; then
+  echo "FAILED steps:$failures"
+fi
+echo "summary: $passed passed, $failed failed"
+[ -z "$failures" ]
