@@ -61,15 +61,18 @@ report=build/test-report.md
 mkdir -p build
 printf '# tools/test.sh report\n\n| step | result | seconds |\n|---|---|---|\n' > "$report"
 
-step() {  # step NAME COMMAND...: runs, times, records
+step() {  # step NAME COMMAND...: runs, times, records. A step that is not a ctest run
+          # (build, analysis, memcheck, budget) counts as one check in the summary.
   local name="$1"; shift
   local t0=$SECONDS
   echo "== $name"
   if "$@"; then
     echo "| $name | ok | $((SECONDS - t0)) |" >> "$report"
+    [ "$1" = ctest_counted ] || passed=$((passed + 1))
   else
     echo "| $name | FAILED | $((SECONDS - t0)) |" >> "$report"
     failures="$failures $name"
+    [ "$1" = ctest_counted ] || failed=$((failed + 1))
   fi
 }
 
@@ -93,10 +96,14 @@ build_preset() { cmake --preset "$1" > "build/configure-$1.log" 2>&1 || { cat "b
                  cmake --build --preset "$1" -j "$JOBS"; }
 
 memcheck() {  # every host unit-test executable under valgrind: uninitialised reads, leaks
+  # Left out (all of them ran natively in the host steps): death tests (they fork and
+  # abort); MathAccuracy.*: valgrind computes x87 long double at double precision, so their
+  # high-precision reference is not one there; NoHeapGuard.*: valgrind replaces operator
+  # new/delete with its own, so the guard's counters cannot see them there.
   local rc=0 exe
   for exe in "$1"/tests/vtm_*_tests; do
     valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite \
-      "$exe" --gtest_filter='-*DeathTest*' --gtest_brief=1 > "build/memcheck-$(basename "$exe").log" 2>&1 \
+      "$exe" --gtest_filter='-*DeathTest*:MathAccuracy.*:NoHeapGuard.*' --gtest_brief=1 > "build/memcheck-$(basename "$exe").log" 2>&1 \
       || { echo "memcheck: $exe"; tail -n 30 "build/memcheck-$(basename "$exe").log"; rc=1; }
   done
   return $rc
@@ -126,5 +133,6 @@ cat "$report"
 if [ -n "$failures" ]; then
   echo "FAILED steps:$failures"
 fi
+# Unit tests of every configuration plus one check per other step.
 echo "summary: $passed passed, $failed failed"
 [ -z "$failures" ]
