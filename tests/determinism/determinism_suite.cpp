@@ -6,6 +6,7 @@
 #include "vtm/core/image.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/core/random.hpp"
+#include "vtm/stereo/ml_stereo.hpp"
 
 namespace vtm::determinism {
 namespace {
@@ -161,6 +162,52 @@ std::uint64_t fmaSensitiveSection() noexcept {
     return h.value();
 }
 
+// The dense stereo module on a 96 x 64 pair: textured noise shifted by 5 px on the left
+// half and 9 px on the right half.
+std::uint64_t stereoSection() noexcept {
+    constexpr std::int32_t kSw = 96;
+    constexpr std::int32_t kSh = 64;
+    static std::uint8_t left[kSw * kSh];
+    static std::uint8_t right[kSw * kSh];
+    static std::uint8_t texture[(kSw + 16) * kSh];
+    Random rng(5U);
+    for (std::uint8_t& t : texture) {
+        t = static_cast<std::uint8_t>(rng.uniformInt(20, 235));
+    }
+    for (std::int32_t y = 0; y < kSh; ++y) {
+        for (std::int32_t x = 0; x < kSw; ++x) {
+            const std::int32_t d = x < kSw / 2 ? 5 : 9;
+            left[y * kSw + x] = texture[y * (kSw + 16) + x + 12];
+            right[y * kSw + x] = texture[y * (kSw + 16) + x + 12 + (x + d < kSw + 4 ? d : 0)];
+        }
+    }
+    stereo::Config c = stereo::Config::conservative();
+    c.max_width = kSw;
+    c.max_height = kSh;
+    c.d_min = -2;
+    c.d_max = 13;
+    static std::byte pool[1U << 20U];
+    Arena arena(pool, sizeof pool);
+    static stereo::MlStereo matcher;
+    static std::int16_t disparity[kSw * kSh];
+    static float sigma[kSw * kSh];
+    static std::uint8_t reason[kSw * kSh];
+    Hasher h;
+    const Status s = matcher.init(c, arena);
+    h.addI64(static_cast<std::int64_t>(s.code()));
+    const stereo::DisparityOutput out{ImageView<std::int16_t>(disparity, kSw, kSh), ImageView<float>(sigma, kSw, kSh),
+                                      ImageView<std::uint8_t>(reason, kSw, kSh)};
+    const Status r = matcher.compute(ImageView<const std::uint8_t>(left, kSw, kSh),
+                                     ImageView<const std::uint8_t>(right, kSw, kSh), out);
+    h.addI64(static_cast<std::int64_t>(r.code()));
+    for (std::int32_t i = 0; i < kSw * kSh; ++i) {
+        h.addI64(disparity[i]);
+        h.addDouble(static_cast<double>(sigma[i]));
+        h.addI64(reason[i]);
+    }
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -170,6 +217,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kRandom: return "random";
         case Section::kImage: return "image";
         case Section::kFmaSensitive: return "fma_sensitive";
+        case Section::kStereo: return "stereo";
     }
     return "unknown";
 }
@@ -181,6 +229,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kRandom: return randomSection();
         case Section::kImage: return imageSection();
         case Section::kFmaSensitive: return fmaSensitiveSection();
+        case Section::kStereo: return stereoSection();
     }
     return 0U;
 }

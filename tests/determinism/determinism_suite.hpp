@@ -6,15 +6,23 @@
 //   - vtm::Random sequences (integers, uniforms, normals);
 //   - integer image operations (box sums, gradients, thresholds) on a generated image;
 //   - FMA-sensitive expressions (a*b + c with cancellation): any contraction into a
-//     fused multiply-add by the compiler changes these bits.
+//     fused multiply-add by the compiler changes these bits;
+//   - the ML dense stereo module on a generated pair (disparity, sigma, reason).
 #pragma once
 
 #include <cstdint>
 
 namespace vtm::determinism {
 
-enum class Section : std::uint8_t { kEigen = 0, kMath = 1, kRandom = 2, kImage = 3, kFmaSensitive = 4 };
-constexpr int kSectionCount = 5;
+enum class Section : std::uint8_t {
+    kEigen = 0,
+    kMath = 1,
+    kRandom = 2,
+    kImage = 3,
+    kFmaSensitive = 4,
+    kStereo = 5,
+};
+constexpr int kSectionCount = 6;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;

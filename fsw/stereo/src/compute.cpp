@@ -1,0 +1,291 @@
+// MlStereo::compute: the row stream (see ml_stereo.cpp for the overview).
+#include <cstring>
+
+#include "plan.hpp"
+#include "vtm/core/math.hpp"
+#include "vtm/stereo/ml_stereo.hpp"
+
+namespace vtm::stereo {
+namespace {
+
+using detail::Plan;
+
+constexpr std::int32_t kInfCost = 0x7FFFFFFF;
+
+// Everything one compute() touches: the plan, the image size and the workspace.
+struct Work {
+    Plan p;
+    Config c;
+    std::int32_t w;
+    std::int32_t h;
+    const std::uint8_t* table;
+    ImageView<std::uint8_t> left;   // prefiltered, packed
+    ImageView<std::uint8_t> right;
+    std::uint8_t* dtRing;
+    std::uint8_t* dtRow;
+    std::int32_t* offset;
+    std::uint8_t* costRing;
+    std::uint16_t* colSums;
+    std::uint16_t* winSums;
+    std::int32_t* best;
+    std::int32_t* second;
+    std::int16_t* bestIndex;
+    std::int32_t* rlCost;
+    std::int16_t* rlIndex;
+};
+
+// Pushes template row y' (or a row of zero cost below the image) into ring slot `slot`,
+// updating the column sums: col += new - old for every column and disparity.
+void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t slot) {
+    const Plan& p = k.p;
+    const std::size_t slotBytes = static_cast<std::size_t>(p.disparities) * static_cast<std::size_t>(p.costStride);
+    for (std::int32_t x = 0; x < k.w; ++x) {
+        k.offset[x] = (leftRow != nullptr)
+                          ? ((leftRow[x] >> p.binShift) * p.dtStride + p.padLeft + x)
+                          : 0;
+    }
+    for (std::int32_t j = 0; j < p.disparities; ++j) {
+        const std::int32_t d = k.c.d_min + j;
+        std::uint8_t* ring = k.costRing + static_cast<std::size_t>(slot) * slotBytes +
+                             static_cast<std::size_t>(j) * static_cast<std::size_t>(p.costStride) +
+                             static_cast<std::size_t>(p.half);
+        std::uint16_t* col = k.colSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.costStride) +
+                             static_cast<std::size_t>(p.half);
+        const std::uint8_t* base = k.dtRow - d;
+        for (std::int32_t x = 0; x < k.w; ++x) {
+            const std::uint8_t n = (leftRow != nullptr) ? base[k.offset[x]] : std::uint8_t{0};
+            const std::uint8_t o = ring[x];
+            ring[x] = n;
+            col[x] = static_cast<std::uint16_t>(col[x] + n - o);
+        }
+    }
+}
+
+// Window sums of the completed row: running sums of the column sums along x.
+void windowSums(const Work& k) {
+    const Plan& p = k.p;
+    const std::int32_t span = 2 * p.half;
+    for (std::int32_t j = 0; j < p.disparities; ++j) {
+        const std::uint16_t* col = k.colSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.costStride);
+        std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
+        std::int32_t s = 0;
+        for (std::int32_t i = 0; i <= span; ++i) {
+            s += col[i];
+        }
+        win[0] = static_cast<std::uint16_t>(s);
+        for (std::int32_t x = 1; x < k.w; ++x) {
+            s += col[x + span] - col[x - 1];
+            win[x] = static_cast<std::uint16_t>(s);
+        }
+    }
+}
+
+// Best and second-best (at least 2 disparities away) window per left column, and the
+// best disparity per right column over the same sums (the right-to-left search).
+void searchRow(const Work& k) {
+    const Plan& p = k.p;
+    for (std::int32_t x = 0; x < k.w; ++x) {
+        k.best[x] = kInfCost;
+        k.second[x] = kInfCost;
+        k.bestIndex[x] = 0;
+        k.rlCost[x] = kInfCost;
+        k.rlIndex[x] = -1;
+    }
+    for (std::int32_t j = 0; j < p.disparities; ++j) {
+        const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
+        for (std::int32_t x = 0; x < k.w; ++x) {
+            if (win[x] < k.best[x]) {
+                k.best[x] = win[x];
+                k.bestIndex[x] = static_cast<std::int16_t>(j);
+            }
+        }
+        if (k.c.lr_max_diff_px < 0) {
+            continue;  // no right-to-left search without the left-right check
+        }
+        const std::int32_t d = k.c.d_min + j;
+        const std::int32_t xrLo = d < 0 ? -d : 0;
+        const std::int32_t xrHi = d > 0 ? k.w - d : k.w;
+        for (std::int32_t xr = xrLo; xr < xrHi; ++xr) {
+            if (win[xr + d] < k.rlCost[xr]) {
+                k.rlCost[xr] = win[xr + d];
+                k.rlIndex[xr] = static_cast<std::int16_t>(j);
+            }
+        }
+    }
+    for (std::int32_t j = 0; j < p.disparities && k.c.uniqueness_percent > 0; ++j) {
+        const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
+        for (std::int32_t x = 0; x < k.w; ++x) {
+            const std::int32_t gap = j - k.bestIndex[x];
+            if ((gap > 1 || gap < -1) && win[x] < k.second[x]) {
+                k.second[x] = win[x];
+            }
+        }
+    }
+}
+
+// Parabola vertex offset through (-1, cm), (0, c0), (1, cp), in 1/16 px, rounded half
+// away from zero, clamped to +-8. curvature = cm + cp - 2 c0 > 0.
+std::int32_t subpixelOffset16(std::int32_t cm, std::int32_t cp, std::int32_t curvature) {
+    const std::int64_t t = static_cast<std::int64_t>(cm - cp) * kDisparityScale;  // offset * 2 curvature
+    const std::int64_t den = 2 * static_cast<std::int64_t>(curvature);
+    const std::int64_t q = (t >= 0) ? (2 * t + den) / (2 * den) : -((-2 * t + den) / (2 * den));
+    return static_cast<std::int32_t>(q > 8 ? 8 : (q < -8 ? -8 : q));
+}
+
+struct Decision {
+    Reason reason;
+    std::int16_t disparity16;
+    float sigma;
+};
+
+Decision decide(const Work& k, std::int32_t x) {
+    const Plan& p = k.p;
+    constexpr float kInf = static_cast<float>(math::kInfinity);
+    if (x - k.c.d_min < 0 || x - k.c.d_max > k.w - 1) {
+        return {Reason::kBorder, kNoDisparity, kInf};
+    }
+    const std::int32_t j0 = k.bestIndex[x];
+    const std::int32_t c0 = k.best[x];
+    const std::size_t col = static_cast<std::size_t>(x);
+    const std::size_t row = static_cast<std::size_t>(p.width);
+    if (p.disparities >= 3 && (j0 == 0 || j0 == p.disparities - 1)) {
+        // A peak on the boundary: out of range, unless the curve is flat there (ties
+        // resolve to the lowest disparity), which is missing texture.
+        const std::int32_t inner = k.winSums[static_cast<std::size_t>(j0 == 0 ? 1 : j0 - 1) * row + col];
+        return {inner == c0 ? Reason::kNoTexture : Reason::kOutOfRange, kNoDisparity, kInf};
+    }
+    const std::int32_t cm = j0 > 0 ? k.winSums[static_cast<std::size_t>(j0 - 1) * row + col] : c0;
+    const std::int32_t cp = j0 < p.disparities - 1 ? k.winSums[static_cast<std::size_t>(j0 + 1) * row + col] : c0;
+    const std::int32_t curvature = cm + cp - 2 * c0;
+    if (curvature < k.c.min_curvature || curvature <= 0) {
+        return {Reason::kNoTexture, kNoDisparity, kInf};
+    }
+    const std::int64_t area = static_cast<std::int64_t>(k.c.window) * k.c.window;
+    if (static_cast<std::int64_t>(c0) * 100 > static_cast<std::int64_t>(k.c.max_outlier_percent) * p.maxCost * area) {
+        return {Reason::kLowLikelihood, kNoDisparity, kInf};
+    }
+    if (k.c.uniqueness_percent > 0 && k.second[x] != kInfCost &&
+        static_cast<std::int64_t>(k.second[x]) * 100 <= static_cast<std::int64_t>(c0) * (100 + k.c.uniqueness_percent)) {
+        return {Reason::kAmbiguous, kNoDisparity, kInf};
+    }
+    const std::int32_t d0 = k.c.d_min + j0;
+    if (k.c.lr_max_diff_px >= 0) {
+        const std::int32_t xr = x - d0;
+        const std::int32_t back = (xr >= 0 && xr < k.w && k.rlIndex[xr] >= 0) ? k.c.d_min + k.rlIndex[xr] : d0 + 1000;
+        const std::int32_t diff = back > d0 ? back - d0 : d0 - back;
+        if (diff > k.c.lr_max_diff_px) {
+            return {Reason::kLeftRightMismatch, kNoDisparity, kInf};
+        }
+    }
+    const std::int32_t disparity16 = d0 * kDisparityScale + subpixelOffset16(cm, cp, curvature);
+    // Log-likelihood L(d) = -cost / costPerNat: sigma^2 = -1 / L'' = costPerNat / curvature.
+    const double sigma = math::sqrt(p.costPerNat / static_cast<double>(curvature));
+    return {Reason::kValid, static_cast<std::int16_t>(disparity16), static_cast<float>(sigma)};
+}
+
+void emitRow(const Work& k, std::int32_t y, const DisparityOutput& out, StereoStats* stats) {
+    windowSums(k);
+    searchRow(k);
+    std::int16_t* disp = out.disparity_px16.row(y);
+    float* sigma = out.sigma_px.valid() ? out.sigma_px.row(y) : nullptr;
+    std::uint8_t* reason = out.reason.valid() ? out.reason.row(y) : nullptr;
+    for (std::int32_t x = 0; x < k.w; ++x) {
+        const Decision dec = decide(k, x);
+        disp[x] = dec.disparity16;
+        if (sigma != nullptr) {
+            sigma[x] = dec.sigma;
+        }
+        if (reason != nullptr) {
+            reason[x] = static_cast<std::uint8_t>(dec.reason);
+        }
+        if (stats != nullptr) {
+            ++stats->reason_counts[static_cast<std::int32_t>(dec.reason)];
+        }
+    }
+}
+
+
+Status checkInputs(const Config& c, const ImageView<const std::uint8_t>& left,
+                   const ImageView<const std::uint8_t>& right, const DisparityOutput& out) {
+    if (!left.valid() || !right.valid()) {
+        return Status(StatusCode::kInvalidArgument, "MlStereo::compute: left or right image is empty");
+    }
+    if (!right.sameSize(left.width(), left.height())) {
+        return Status(StatusCode::kSizeMismatch, "MlStereo::compute: left and right sizes differ", right.width());
+    }
+    if (left.width() > c.max_width || left.height() > c.max_height) {
+        return Status(StatusCode::kSizeMismatch, "MlStereo::compute: image larger than max_width x max_height",
+                      left.width() > c.max_width ? left.width() : left.height());
+    }
+    if (!out.disparity_px16.valid() || !out.disparity_px16.sameSize(left.width(), left.height())) {
+        return Status(StatusCode::kSizeMismatch, "MlStereo::compute: disparity output must match the image size");
+    }
+    if ((out.sigma_px.data() != nullptr && !out.sigma_px.sameSize(left.width(), left.height())) ||
+        (out.reason.data() != nullptr && !out.reason.sameSize(left.width(), left.height()))) {
+        return Status(StatusCode::kSizeMismatch, "MlStereo::compute: sigma/reason output must match the image size");
+    }
+    return Status::ok();
+}
+
+void prefilterInto(const Config& c, const ImageView<const std::uint8_t>& in, std::int32_t* columns,
+                   const ImageView<std::uint8_t>& out) {
+    if (c.prefilter == Prefilter::kLocalMeanRemoved) {
+        detail::removeLocalMean(in, c.prefilter_window, columns, out);
+    } else {
+        (void)copyImage(in, out);  // sizes were checked by checkInputs
+    }
+}
+
+// The row stream: x pass of the right image ahead by r rows, y pass per template row,
+// costs into the ring, and every row decided as soon as its window is complete.
+void streamRows(const Work& k, const DisparityOutput& out, StereoStats* stats) {
+    const Plan& p = k.p;
+    const std::size_t ringRow = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
+    const std::int32_t slots = 2 * p.radius + 1;
+    std::int32_t nextX = 0;  // next right row for the x pass
+    for (std::int32_t yIn = 0; yIn < k.h + p.half; ++yIn) {
+        if (yIn < k.h) {
+            const std::int32_t need = (yIn + p.radius < k.h) ? yIn + p.radius : k.h - 1;
+            for (; nextX <= need; ++nextX) {  // at most r + 1 rows per template row
+                detail::distanceTransformRowX(p, k.right.row(nextX), k.w,
+                                              k.dtRing + static_cast<std::size_t>(nextX % slots) * ringRow);
+            }
+            detail::distanceTransformRowY(p, detail::RowGeometry{yIn, k.h, k.w}, k.dtRing, k.table, k.dtRow);
+        }
+        pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn % (2 * p.half + 1));
+        if (yIn >= p.half) {
+            emitRow(k, yIn - p.half, out, stats);
+        }
+    }
+}
+
+}  // namespace
+
+Status MlStereo::compute(const ImageView<const std::uint8_t>& left, const ImageView<const std::uint8_t>& right,
+                         const DisparityOutput& out, StereoStats* stats) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "MlStereo::compute: init() has not succeeded");
+    }
+    VTM_RETURN_IF_ERROR(checkInputs(config_, left, right, out));
+    const std::int32_t w = left.width();
+    const std::int32_t h = left.height();
+    Work k{detail::makePlan(config_), config_, w, h, costTable_.data(),
+           ImageView<std::uint8_t>(leftFiltered_.data(), w, h), ImageView<std::uint8_t>(rightFiltered_.data(), w, h),
+           dtRing_.data(), dtRow_.data(), templateOffset_.data(), costRing_.data(), colSums_.data(),
+           winSums_.data(), bestCost_.data(), secondCost_.data(), bestIndex_.data(), rlCost_.data(),
+           rlIndex_.data()};
+    prefilterInto(config_, left, boxColumns_.data(), k.left);
+    prefilterInto(config_, right, boxColumns_.data(), k.right);
+    std::memset(costRing_.data(), 0, costRing_.size());
+    std::memset(colSums_.data(), 0, colSums_.size() * sizeof(std::uint16_t));
+    if (stats != nullptr) {
+        *stats = StereoStats{};
+    }
+    streamRows(k, out, stats);
+    if (stats != nullptr) {
+        stats->valid_pixels = stats->reason_counts[static_cast<std::int32_t>(Reason::kValid)];
+    }
+    return Status::ok();
+}
+
+}  // namespace vtm::stereo

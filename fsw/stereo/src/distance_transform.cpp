@@ -1,0 +1,102 @@
+// The 3D distance transform of the search image over (x, y, intensity), truncated at
+// radius r: D2(u, v, i) = min over right pixels (u', v') within r of
+//   F (u - u')^2 + F (v - v')^2 + binWeight (i - bin(u', v'))^2,   capped at d2Cap.
+// Truncation makes the exact transform local: a pixel farther than r contributes at
+// least the cap. The x pass scatters every pixel into the bins and columns it can reach
+// (bins within binReach, columns within r); the y pass takes the least over rows v +- r.
+#include <cstring>
+
+#include "plan.hpp"
+
+namespace vtm::stereo::detail {
+
+void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int32_t width,
+                           std::uint8_t* out) noexcept {
+    const std::size_t rowBytes = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
+    std::memset(out, p.d2Cap, rowBytes);
+    for (std::int32_t u = 0; u < width; ++u) {
+        const std::int32_t b = rightRow[u] >> p.binShift;
+        const std::int32_t iLo = b - p.binReach < 0 ? 0 : b - p.binReach;
+        const std::int32_t iHi = b + p.binReach >= p.bins ? p.bins - 1 : b + p.binReach;
+        const std::int32_t kLo = u - p.radius < 0 ? -u : -p.radius;
+        const std::int32_t kHi = u + p.radius >= width ? width - 1 - u : p.radius;
+        for (std::int32_t i = iLo; i <= iHi; ++i) {
+            const std::int32_t di = (i - b) * (i - b) * p.binWeight;
+            std::uint8_t* binRow = out + static_cast<std::ptrdiff_t>(i) * p.width + u;
+            for (std::int32_t k = kLo; k <= kHi; ++k) {
+                const std::int32_t d2 = di + k * k * p.d2Scale;
+                if (d2 < binRow[k]) {
+                    binRow[k] = static_cast<std::uint8_t>(d2);
+                }
+            }
+        }
+    }
+}
+
+void distanceTransformRowY(const Plan& p, const RowGeometry& g, const std::uint8_t* ring,
+                           const std::uint8_t* costTable, std::uint8_t* dtRow) noexcept {
+    const std::int32_t y = g.y;
+    const std::int32_t height = g.height;
+    const std::int32_t width = g.width;
+    const std::int32_t slots = 2 * p.radius + 1;
+    const std::size_t ringRow = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
+    std::memset(dtRow, p.maxCost, static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.dtStride));
+    const std::int32_t kLo = y - p.radius < 0 ? -y : -p.radius;
+    const std::int32_t kHi = y + p.radius >= height ? height - 1 - y : p.radius;
+    for (std::int32_t i = 0; i < p.bins; ++i) {
+        std::uint8_t* dst = dtRow + static_cast<std::ptrdiff_t>(i) * p.dtStride + p.padLeft;
+        for (std::int32_t u = 0; u < width; ++u) {
+            dst[u] = static_cast<std::uint8_t>(p.d2Cap);
+        }
+        for (std::int32_t k = kLo; k <= kHi; ++k) {
+            const std::int32_t slot = (y + k) % slots;
+            const std::uint8_t* src = ring + static_cast<std::size_t>(slot) * ringRow +
+                                      static_cast<std::size_t>(i) * static_cast<std::size_t>(p.width);
+            const std::int32_t add = k * k * p.d2Scale;
+            for (std::int32_t u = 0; u < width; ++u) {
+                const std::int32_t d2 = src[u] + add;
+                if (d2 < dst[u]) {
+                    dst[u] = static_cast<std::uint8_t>(d2);
+                }
+            }
+        }
+        for (std::int32_t u = 0; u < width; ++u) {
+            dst[u] = costTable[dst[u]];
+        }
+    }
+}
+
+void removeLocalMean(const ImageView<const std::uint8_t>& in, std::int32_t window, std::int32_t* columns,
+                     const ImageView<std::uint8_t>& out) noexcept {
+    const std::int32_t w = in.width();
+    const std::int32_t h = in.height();
+    const std::int32_t r = window / 2;
+    const std::int32_t area = window * window;
+    for (std::int32_t y = 0; y < h; ++y) {
+        // Column sums over rows y-r..y+r with replicated borders.
+        for (std::int32_t x = 0; x < w; ++x) {
+            columns[x] = 0;
+        }
+        for (std::int32_t k = -r; k <= r; ++k) {
+            const std::int32_t yy = y + k < 0 ? 0 : (y + k >= h ? h - 1 : y + k);
+            const std::uint8_t* row = in.row(yy);
+            for (std::int32_t x = 0; x < w; ++x) {
+                columns[x] += row[x];
+            }
+        }
+        const std::uint8_t* src = in.row(y);
+        std::uint8_t* dst = out.row(y);
+        for (std::int32_t x = 0; x < w; ++x) {
+            std::int32_t sum = 0;
+            for (std::int32_t k = -r; k <= r; ++k) {
+                const std::int32_t xx = x + k < 0 ? 0 : (x + k >= w ? w - 1 : x + k);
+                sum += columns[xx];
+            }
+            const std::int32_t mean = (sum + area / 2) / area;
+            const std::int32_t v = 128 + 2 * (static_cast<std::int32_t>(src[x]) - mean);
+            dst[x] = static_cast<std::uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+        }
+    }
+}
+
+}  // namespace vtm::stereo::detail

@@ -1,0 +1,111 @@
+// Orchestration of the ML matcher: workspace, the row stream, the per-row decision.
+//
+// The pair streams through once, top to bottom. For every template (left) row y' that
+// enters the window: the right image's distance transform for row y' (x pass kept for
+// rows y'-r..y'+r in a ring, y pass into one row of costs per intensity bin), then the
+// per-pixel cost of every column at every disparity, pushed into a ring of the last
+// `window` rows while the window column sums are updated (add the new row, subtract
+// the row that left). When row y = y' - h is complete, running sums along each row give
+// the window sums, from which the row's disparities are decided.
+#include "vtm/stereo/ml_stereo.hpp"
+
+#include <cstring>
+
+#include "plan.hpp"
+#include "vtm/core/math.hpp"
+
+namespace vtm::stereo {
+namespace {
+
+using detail::Plan;
+
+
+struct Sizes {
+    std::size_t image;      // one prefiltered image
+    std::size_t dtRing;     // (2r+1) x-pass rows
+    std::size_t dtRow;      // bins * dtStride
+    std::size_t costRing;   // window * D * costStride
+    std::size_t sums;       // D * costStride (column sums), D * width (window sums)
+    std::size_t winSums;
+    std::size_t speckle;    // per-pixel state when the speckle filter is on
+    std::size_t speckleQueue;
+};
+
+Sizes sizesOf(const Config& c, const Plan& p) noexcept {
+    const auto w = static_cast<std::size_t>(p.width);
+    const auto d = static_cast<std::size_t>(p.disparities);
+    Sizes s{};
+    s.image = w * static_cast<std::size_t>(p.height);
+    s.dtRing = static_cast<std::size_t>(2 * p.radius + 1) * static_cast<std::size_t>(p.bins) * w;
+    s.dtRow = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.dtStride);
+    s.costRing = static_cast<std::size_t>(c.window) * d * static_cast<std::size_t>(p.costStride);
+    s.sums = d * static_cast<std::size_t>(p.costStride);
+    s.winSums = d * w;
+    s.speckle = c.speckle_max_size > 0 ? s.image : 0U;
+    s.speckleQueue = c.speckle_max_size > 0 ? static_cast<std::size_t>(c.speckle_max_size) + 1U : 0U;
+    return s;
+}
+
+}  // namespace
+
+std::size_t MlStereo::workspaceBytes(const Config& config) noexcept {
+    if (!config.validate().isOk()) {
+        return 0U;
+    }
+    const Plan p = detail::makePlan(config);
+    const Sizes s = sizesOf(config, p);
+    const auto w = static_cast<std::size_t>(p.width);
+    // Term by term, in the order init() carves them; blockBytes adds worst-case padding.
+    return Arena::blockBytes(256U)                                  // cost table
+           + 2U * Arena::blockBytes(s.image)                        // prefiltered left, right
+           + Arena::blockBytes(w * sizeof(std::int32_t))            // prefilter column sums
+           + Arena::blockBytes(s.dtRing) + Arena::blockBytes(s.dtRow)
+           + Arena::blockBytes(w * sizeof(std::int32_t))            // template offsets
+           + Arena::blockBytes(s.costRing)
+           + Arena::blockBytes(s.sums * sizeof(std::uint16_t))      // column sums
+           + Arena::blockBytes(s.winSums * sizeof(std::uint16_t))   // window sums
+           + 2U * Arena::blockBytes(w * sizeof(std::int32_t))       // best, second-best cost
+           + Arena::blockBytes(w * sizeof(std::int16_t))            // best index
+           + Arena::blockBytes(w * sizeof(std::int32_t))            // right-to-left best cost
+           + Arena::blockBytes(w * sizeof(std::int16_t))            // right-to-left best index
+           + Arena::blockBytes(s.speckle) + Arena::blockBytes(s.speckleQueue * sizeof(std::int32_t));
+}
+
+Status MlStereo::init(const Config& config, Arena& arena) noexcept {
+    initialized_ = false;
+    VTM_RETURN_IF_ERROR(config.validate());
+    const Plan p = detail::makePlan(config);
+    const Sizes s = sizesOf(config, p);
+    const auto w = static_cast<std::size_t>(p.width);
+    costTable_ = arena.allocateArray<std::uint8_t>(256U);
+    leftFiltered_ = arena.allocateArray<std::uint8_t>(s.image);
+    rightFiltered_ = arena.allocateArray<std::uint8_t>(s.image);
+    boxColumns_ = arena.allocateArray<std::int32_t>(w);
+    dtRing_ = arena.allocateArray<std::uint8_t>(s.dtRing);
+    dtRow_ = arena.allocateArray<std::uint8_t>(s.dtRow);
+    templateOffset_ = arena.allocateArray<std::int32_t>(w);
+    costRing_ = arena.allocateArray<std::uint8_t>(s.costRing);
+    colSums_ = arena.allocateArray<std::uint16_t>(s.sums);
+    winSums_ = arena.allocateArray<std::uint16_t>(s.winSums);
+    bestCost_ = arena.allocateArray<std::int32_t>(w);
+    secondCost_ = arena.allocateArray<std::int32_t>(w);
+    bestIndex_ = arena.allocateArray<std::int16_t>(w);
+    rlCost_ = arena.allocateArray<std::int32_t>(w);
+    rlIndex_ = arena.allocateArray<std::int16_t>(w);
+    speckleState_ = arena.allocateArray<std::uint8_t>(s.speckle);
+    speckleQueue_ = arena.allocateArray<std::int32_t>(s.speckleQueue);
+    const bool speckleOk = s.speckle == 0U || (!speckleState_.empty() && !speckleQueue_.empty());
+    if (costTable_.empty() || leftFiltered_.empty() || rightFiltered_.empty() || boxColumns_.empty() ||
+        dtRing_.empty() || dtRow_.empty() || templateOffset_.empty() || costRing_.empty() ||
+        colSums_.empty() || winSums_.empty() || bestCost_.empty() || secondCost_.empty() ||
+        bestIndex_.empty() || rlCost_.empty() || rlIndex_.empty() || !speckleOk) {
+        return Status(StatusCode::kOutOfMemory, "MlStereo::init: arena smaller than workspaceBytes(config)",
+                      static_cast<std::int64_t>(workspaceBytes(config)));
+    }
+    detail::buildCostTable(config, p, costTable_.data());
+    config_ = config;
+    initialized_ = true;
+    return Status::ok();
+}
+
+}  // namespace vtm::stereo
