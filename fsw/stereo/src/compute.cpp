@@ -250,7 +250,13 @@ void streamRows(const Work& k, const DisparityOutput& out, StereoStats* stats) {
                 detail::distanceTransformRowX(p, k.right.row(nextX), k.w,
                                               k.dtRing + static_cast<std::size_t>(nextX % slots) * ringRow);
             }
-            detail::distanceTransformRowY(p, detail::RowGeometry{yIn, k.h, k.w}, k.dtRing, k.table, k.dtRow);
+            std::uint8_t binUsed[64] = {};
+            const std::uint8_t* templateRow = k.left.row(yIn);
+            for (std::int32_t x = 0; x < k.w; ++x) {
+                binUsed[templateRow[x] >> p.binShift] = 1U;
+            }
+            detail::distanceTransformRowY(p, detail::RowGeometry{yIn, k.h, k.w, binUsed}, k.dtRing, k.table,
+                                          k.dtRow);
         }
         pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn % (2 * p.half + 1));
         if (yIn >= p.half) {

@@ -35,32 +35,31 @@ void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int
 
 void distanceTransformRowY(const Plan& p, const RowGeometry& g, const std::uint8_t* ring,
                            const std::uint8_t* costTable, std::uint8_t* dtRow) noexcept {
-    const std::int32_t y = g.y;
-    const std::int32_t height = g.height;
-    const std::int32_t width = g.width;
     const std::int32_t slots = 2 * p.radius + 1;
     const std::size_t ringRow = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
     std::memset(dtRow, p.maxCost, static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.dtStride));
-    const std::int32_t kLo = y - p.radius < 0 ? -y : -p.radius;
-    const std::int32_t kHi = y + p.radius >= height ? height - 1 - y : p.radius;
+    const std::int32_t kLo = g.y - p.radius < 0 ? -g.y : -p.radius;
+    const std::int32_t kHi = g.y + p.radius >= g.height ? g.height - 1 - g.y : p.radius;
+    const auto at = [&](std::int32_t k, std::int32_t i) {
+        return ring + static_cast<std::size_t>((g.y + k) % slots) * ringRow +
+               static_cast<std::size_t>(i) * static_cast<std::size_t>(p.width);
+    };
     for (std::int32_t i = 0; i < p.bins; ++i) {
-        std::uint8_t* dst = dtRow + static_cast<std::ptrdiff_t>(i) * p.dtStride + p.padLeft;
-        for (std::int32_t u = 0; u < width; ++u) {
-            dst[u] = static_cast<std::uint8_t>(p.d2Cap);
+        if (g.binUsed[i] == 0U) {
+            continue;
         }
+        std::uint8_t* dst = dtRow + static_cast<std::ptrdiff_t>(i) * p.dtStride + p.padLeft;
+        std::memcpy(dst, at(0, i), static_cast<std::size_t>(g.width));  // k = 0 adds nothing
         for (std::int32_t k = kLo; k <= kHi; ++k) {
-            const std::int32_t slot = (y + k) % slots;
-            const std::uint8_t* src = ring + static_cast<std::size_t>(slot) * ringRow +
-                                      static_cast<std::size_t>(i) * static_cast<std::size_t>(p.width);
-            const std::int32_t add = k * k * p.d2Scale;
-            for (std::int32_t u = 0; u < width; ++u) {
-                const std::int32_t d2 = src[u] + add;
-                if (d2 < dst[u]) {
-                    dst[u] = static_cast<std::uint8_t>(d2);
-                }
+            const std::uint8_t* src = at(k, i);
+            const auto add = static_cast<std::uint32_t>(k * k * p.d2Scale);
+            for (std::int32_t u = 0; u < g.width && k != 0; ++u) {
+                const std::uint32_t d2 = src[u] + add;
+                const std::uint32_t cur = dst[u];
+                dst[u] = static_cast<std::uint8_t>(d2 < cur ? d2 : cur);
             }
         }
-        for (std::int32_t u = 0; u < width; ++u) {
+        for (std::int32_t u = 0; u < g.width; ++u) {
             dst[u] = costTable[dst[u]];
         }
     }

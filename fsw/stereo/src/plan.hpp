@@ -49,6 +49,9 @@ struct RowGeometry {
     std::int32_t y;       // the row
     std::int32_t height;  // image height
     std::int32_t width;   // image width
+    // Per intensity bin: non-zero when some template pixel of row y has that bin; only
+    // those bins' costs are ever read, so only they are computed.
+    const std::uint8_t* binUsed;
 };
 void distanceTransformRowY(const Plan& p, const RowGeometry& g, const std::uint8_t* ring,
                            const std::uint8_t* costTable, std::uint8_t* dtRow) noexcept;
