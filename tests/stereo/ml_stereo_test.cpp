@@ -354,7 +354,6 @@ TEST(MlStereoConfig, EveryBadFieldIsNamed) {
         {[](Config& c) { c.uniqueness_percent = -1; }, "uniqueness_percent"},
         {[](Config& c) { c.lr_max_diff_px = -2; }, "lr_max_diff_px"},
         {[](Config& c) { c.max_outlier_percent = 0; }, "max_outlier_percent"},
-        {[](Config& c) { c.speckle_max_size = -1; }, "speckle_max_size"},
     };
     EXPECT_TRUE(Config{}.validate().isOk());
     EXPECT_TRUE(Config::conservative().validate().isOk());

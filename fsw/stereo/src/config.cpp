@@ -76,12 +76,6 @@ Status validateIndicators(const Config& c) noexcept {
     if (c.max_outlier_percent < 1 || c.max_outlier_percent > 100) {
         return invalid("max_outlier_percent: must be 1..100", c.max_outlier_percent);
     }
-    if (c.speckle_max_size < 0 || c.speckle_max_size > 10000) {
-        return invalid("speckle_max_size: must be 0 (off)..10000 px", c.speckle_max_size);
-    }
-    if (c.speckle_max_diff_px16 < 0 || c.speckle_max_diff_px16 > 1024) {
-        return invalid("speckle_max_diff_px16: must be 0..1024", c.speckle_max_diff_px16);
-    }
     return Status::ok();
 }
 

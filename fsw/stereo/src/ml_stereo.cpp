@@ -27,8 +27,6 @@ struct Sizes {
     std::size_t costRing;   // window * D * costStride
     std::size_t sums;       // D * costStride (column sums), D * width (window sums)
     std::size_t winSums;
-    std::size_t speckle;    // per-pixel state when the speckle filter is on
-    std::size_t speckleQueue;
 };
 
 Sizes sizesOf(const Config& c, const Plan& p) noexcept {
@@ -41,8 +39,6 @@ Sizes sizesOf(const Config& c, const Plan& p) noexcept {
     s.costRing = static_cast<std::size_t>(c.window) * d * static_cast<std::size_t>(p.costStride);
     s.sums = d * static_cast<std::size_t>(p.costStride);
     s.winSums = d * w;
-    s.speckle = c.speckle_max_size > 0 ? s.image : 0U;
-    s.speckleQueue = c.speckle_max_size > 0 ? static_cast<std::size_t>(c.speckle_max_size) + 1U : 0U;
     return s;
 }
 
@@ -67,8 +63,7 @@ std::size_t MlStereo::workspaceBytes(const Config& config) noexcept {
            + 2U * Arena::blockBytes(w * sizeof(std::int32_t))       // best, second-best cost
            + Arena::blockBytes(w * sizeof(std::int16_t))            // best index
            + Arena::blockBytes(w * sizeof(std::int32_t))            // right-to-left best cost
-           + Arena::blockBytes(w * sizeof(std::int16_t))            // right-to-left best index
-           + Arena::blockBytes(s.speckle) + Arena::blockBytes(s.speckleQueue * sizeof(std::int32_t));
+           + Arena::blockBytes(w * sizeof(std::int16_t));           // right-to-left best index
 }
 
 Status MlStereo::init(const Config& config, Arena& arena) noexcept {
@@ -92,13 +87,10 @@ Status MlStereo::init(const Config& config, Arena& arena) noexcept {
     bestIndex_ = arena.allocateArray<std::int16_t>(w);
     rlCost_ = arena.allocateArray<std::int32_t>(w);
     rlIndex_ = arena.allocateArray<std::int16_t>(w);
-    speckleState_ = arena.allocateArray<std::uint8_t>(s.speckle);
-    speckleQueue_ = arena.allocateArray<std::int32_t>(s.speckleQueue);
-    const bool speckleOk = s.speckle == 0U || (!speckleState_.empty() && !speckleQueue_.empty());
     if (costTable_.empty() || leftFiltered_.empty() || rightFiltered_.empty() || boxColumns_.empty() ||
         dtRing_.empty() || dtRow_.empty() || templateOffset_.empty() || costRing_.empty() ||
         colSums_.empty() || winSums_.empty() || bestCost_.empty() || secondCost_.empty() ||
-        bestIndex_.empty() || rlCost_.empty() || rlIndex_.empty() || !speckleOk) {
+        bestIndex_.empty() || rlCost_.empty() || rlIndex_.empty()) {
         return Status(StatusCode::kOutOfMemory, "MlStereo::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }

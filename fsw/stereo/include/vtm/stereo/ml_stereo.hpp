@@ -45,9 +45,8 @@ enum class Reason : std::uint8_t {
     kLeftRightMismatch = 4,  // right-to-left search disagrees by more than lr_max_diff_px
     kOutOfRange = 5,         // best disparity on the boundary of [d_min, d_max]
     kLowLikelihood = 6,      // even the best window is mostly outliers
-    kSpeckle = 7,            // removed by the speckle filter (small isolated region)
 };
-constexpr std::int32_t kReasonCount = 8;
+constexpr std::int32_t kReasonCount = 7;
 
 // Intensity preprocessing before matching (both images).
 enum class Prefilter : std::uint8_t {
@@ -94,8 +93,6 @@ struct Config {
     std::int32_t min_curvature = 1;          // cost units; flatter peaks are kNoTexture
     std::int32_t max_outlier_percent = 90;   // best window's mean cost above this % of the
                                              // outlier cost: kLowLikelihood (100 disables)
-    std::int32_t speckle_max_size = 0;       // regions of at most this many pixels are removed (0: off)
-    std::int32_t speckle_max_diff_px16 = 16; // neighbours within this differ-by join a region
 
     // kOk, or kInvalidConfig with the field named in the reason and its value in detail.
     [[nodiscard]] Status validate() const noexcept;
@@ -163,8 +160,6 @@ private:
     Span<std::int16_t> bestIndex_{};
     Span<std::int32_t> rlCost_{};        // per right column: best sum seen from the right
     Span<std::int16_t> rlIndex_{};
-    Span<std::uint8_t> speckleState_{};  // per pixel, speckle filter (only when enabled)
-    Span<std::int32_t> speckleQueue_{};
 };
 
 }  // namespace vtm::stereo
