@@ -6,7 +6,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$here"
-pkgs="cmake ninja-build g++ libeigen3-dev libstb-dev libcli11-dev googletest python3"
+pkgs="cmake ninja-build g++ libeigen3-dev libstb-dev libcli11-dev libopencv-dev libbenchmark-dev googletest python3"
 missing=""
 for p in $pkgs; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -25,7 +25,7 @@ done
 JOBS=${JOBS:-$(nproc)}
 
 # ---- packages ---------------------------------------------------------------------
-pkgs="cmake ninja-build g++ googletest libeigen3-dev libstb-dev libcli11-dev python3"
+pkgs="cmake ninja-build g++ googletest libeigen3-dev libstb-dev libcli11-dev libopencv-dev libbenchmark-dev python3"
 [ -n "$targets" ] && pkgs="$pkgs qemu-user"
 [ "$all" = 1 ] && pkgs="$pkgs clang-tidy cppcheck valgrind"
 for t in $targets; do
@@ -127,6 +127,10 @@ done
 if [ -n "$targets" ]; then
   step "budget (static memory, worst stack)" python3 tools/budget/vtm_budget.py $budget_dirs
 fi
+case " $targets " in
+  *" ppc750 "*)  # reported, not gated: docs/benchmarks.md, docs/stereo.md
+    step "ppc750 instructions per pixel*disparity (dense stereo)" tools/qemu/count_stereo.sh --build build/ppc750 ;;
+esac
 
 echo
 cat "$report"

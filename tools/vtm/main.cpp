@@ -2,12 +2,18 @@
 //   vtm            version, build configuration and the static memory budget
 //   vtm version    version only
 //   vtm budget     the static memory budget of the flight build
-// Later issues add the mapping commands (stereo, descent, run, ...).
+//   vtm stereo     dense disparity of a rectified pair (stereo_command.hpp)
+//   vtm eval       accuracy of a disparity map against ground truth (eval_command.hpp)
+// docs/tools.md describes the commands, the file formats and the exit codes.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <string>
 
 #include "build_info.hpp"
+#include "eval_command.hpp"
+#include "exit_codes.hpp"
 #include "memory_budget.hpp"
+#include "stereo_command.hpp"
 
 namespace {
 
@@ -52,7 +58,20 @@ int main(int argc, char** argv) {
     app.require_subcommand(0, 1);
     CLI::App* version = app.add_subcommand("version", "print the version");
     CLI::App* budget = app.add_subcommand("budget", "print the static memory budget of the flight build");
-    CLI11_PARSE(app, argc, argv);
+    vtm::tools::StereoOptions stereo_options;
+    CLI::App* stereo = vtm::tools::addStereoCommand(app, stereo_options);
+    vtm::tools::EvalOptions eval_options;
+    CLI::App* eval = vtm::tools::addEvalCommand(app, eval_options);
+    // Usage errors in one line, like every other vtm error.
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {
+        return std::string("vtm: ") + e.what() + " (--help for usage)\n";
+    });
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help is a "parse error" with exit code 0; every real one is a usage error.
+        return (app.exit(e) == 0) ? vtm::tools::kExitOk : vtm::tools::kExitUsageError;
+    }
     if (version->parsed()) {
         printVersion();
         return 0;
@@ -60,6 +79,12 @@ int main(int argc, char** argv) {
     if (budget->parsed()) {
         printBudget();
         return 0;
+    }
+    if (stereo->parsed()) {
+        return vtm::tools::runStereo(stereo_options);
+    }
+    if (eval->parsed()) {
+        return vtm::tools::runEval(eval_options);
     }
     printVersion();
     printBuild();

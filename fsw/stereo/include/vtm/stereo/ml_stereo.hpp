@@ -63,10 +63,10 @@ struct Config {
     std::int32_t d_min = 0;
     std::int32_t d_max = 63;
     // Matching window side, pixels: odd, 3..31.
-    std::int32_t window = 11;
+    std::int32_t window = 15;
     // Intensity weight beta of the distance transform, pixels per grey level, in
     // 1/1024 units (e.g. 64 = 0.0625 px per grey level). 1..65535.
-    std::int32_t beta_q10 = 128;
+    std::int32_t beta_q10 = 192;
     // Grey-level bins of the 3D distance transform: 8, 16, 32 or 64.
     std::int32_t intensity_bins = 64;
     // Inlier density: Gaussian sigma of D, in 1/16 px. 4..128.

@@ -1,0 +1,14 @@
+// Exit codes of the vtm commands (docs/tools.md).
+#pragma once
+
+namespace vtm::tools {
+
+constexpr int kExitOk = 0;
+// The inputs cannot be processed: a file is missing or unreadable, sizes differ, the
+// configuration is refused, the workspace exceeds the budget, an output cannot be written.
+constexpr int kExitInputError = 1;
+// The command line itself is malformed: unknown option, missing argument, a value that
+// does not parse (e.g. --disparity abc) or an empty disparity range.
+constexpr int kExitUsageError = 2;
+
+}  // namespace vtm::tools
