@@ -14,24 +14,24 @@ constexpr std::int32_t kInfCost = 0x7FFFFFFF;
 
 // Everything one compute() touches: the plan, the image size and the workspace.
 struct Work {
-    Plan p;
-    Config c;
-    std::int32_t w;
-    std::int32_t h;
-    const std::uint8_t* table;
-    ImageView<std::uint8_t> left;   // prefiltered, packed
-    ImageView<std::uint8_t> right;
-    std::uint8_t* dtRing;
-    std::uint8_t* dtRow;
-    std::int32_t* offset;
-    std::uint8_t* costRing;
-    std::uint16_t* colSums;
-    std::uint16_t* winSums;
-    std::int32_t* best;
-    std::int32_t* second;
-    std::int16_t* bestIndex;
-    std::int32_t* rlCost;
-    std::int16_t* rlIndex;
+    Plan p{};
+    Config c{};
+    std::int32_t w = 0;
+    std::int32_t h = 0;
+    const std::uint8_t* table = nullptr;
+    ImageView<std::uint8_t> left{};   // prefiltered, packed
+    ImageView<std::uint8_t> right{};
+    std::uint8_t* dtRing = nullptr;
+    std::uint8_t* dtRow = nullptr;
+    std::int32_t* offset = nullptr;
+    std::uint8_t* costRing = nullptr;
+    std::uint16_t* colSums = nullptr;
+    std::uint16_t* winSums = nullptr;
+    std::int32_t* best = nullptr;
+    std::int32_t* second = nullptr;
+    std::int16_t* bestIndex = nullptr;
+    std::int32_t* rlCost = nullptr;
+    std::int16_t* rlIndex = nullptr;
 };
 
 // Pushes template row y' (or a row of zero cost below the image) into ring slot `slot`,

@@ -58,7 +58,7 @@ Status validateModel(const Config& c) noexcept {
     }
     if (c.truncation_sigmas * c.inlier_sigma_px16 > 15 * 16) {
         return invalid("truncation_sigmas: radius truncation_sigmas * sigma must be <= 15 px",
-                       c.truncation_sigmas * c.inlier_sigma_px16);
+                       static_cast<std::int64_t>(c.truncation_sigmas) * c.inlier_sigma_px16);
     }
     return Status::ok();
 }

@@ -17,6 +17,12 @@ double negLogLikelihood(const Config& c, const Plan& p, std::int32_t d2) noexcep
     return math::log(f0) - math::log(f);
 }
 
+// Nearest integer of a non-negative value, halves up. (Truncating v + 0.5 is exact for
+// the table values here, all far from the rare doubles where v + 0.5 itself rounds up.)
+std::int32_t roundNonNegative(double v) noexcept {
+    return static_cast<std::int32_t>(v + 0.5);  // NOLINT(bugprone-incorrect-roundings): v >= 0, see above
+}
+
 std::int32_t log2Exact(std::int32_t v) noexcept {
     std::int32_t n = 0;
     for (std::int32_t i = 0; i < 31 && (1 << n) < v; ++i) {
@@ -41,9 +47,9 @@ Plan makePlan(const Config& c) noexcept {
     const std::int32_t r2 = p.radius * p.radius;
     p.d2Scale = (r2 > 0) ? (255 / r2 > 0 ? 255 / r2 : 1) : 16;
     // Intensity axis: s = beta * (256 / Q) px per bin, weight F s^2 per bin^2 (rounded).
-    const double s = (static_cast<double>(c.beta_q10) / 1024.0) * static_cast<double>(256 / c.intensity_bins);
+    const double s = (static_cast<double>(c.beta_q10) / 1024.0) * (256.0 / static_cast<double>(c.intensity_bins));
     const double w = static_cast<double>(p.d2Scale) * s * s;
-    p.binWeight = static_cast<std::int32_t>(w + 0.5) > 0 ? static_cast<std::int32_t>(w + 0.5) : 1;
+    p.binWeight = roundNonNegative(w) > 0 ? roundNonNegative(w) : 1;
     // Without a DT the cap is the truncation radius along the intensity axis alone.
     const std::int32_t capFromRadius16 = (radius16 * radius16 * p.d2Scale + 128) / 256;
     p.d2Cap = (p.radius > 0) ? r2 * p.d2Scale : (capFromRadius16 < 255 ? capFromRadius16 : 255);
@@ -67,7 +73,7 @@ void buildCostTable(const Config& c, const Plan& p, std::uint8_t* table) noexcep
     for (std::int32_t d2 = 0; d2 < 256; ++d2) {
         const double v = (d2 <= p.d2Cap) ? negLogLikelihood(c, p, d2) * p.costPerNat
                                          : static_cast<double>(p.maxCost);
-        const std::int32_t q = static_cast<std::int32_t>(v + 0.5);
+        const std::int32_t q = roundNonNegative(v);
         table[d2] = static_cast<std::uint8_t>(q < p.maxCost ? q : p.maxCost);
     }
 }
