@@ -4,6 +4,7 @@
 #include "hal/file/file_camera.hpp"
 #include "hal/file/file_limits.hpp"
 #include "hal/file/file_odometry.hpp"
+#include "vtm/stereo/ml_stereo.hpp"
 
 namespace vtm::tools {
 namespace {
@@ -11,8 +12,20 @@ namespace {
 constexpr BudgetGroup kF = BudgetGroup::kFlight;
 constexpr BudgetGroup kP = BudgetGroup::kPlaybackDriver;
 
+// The dense stereo of the default flight configuration: a 1024 x 1024 Navcam-like pair,
+// 128 disparities, default matcher settings (docs/stereo.md).
+std::size_t flightStereoWorkspace() {
+    stereo::Config c;
+    c.max_width = 1024;
+    c.max_height = 1024;
+    c.d_min = 0;
+    c.d_max = 127;
+    return stereo::MlStereo::workspaceBytes(c);
+}
+
 const BudgetEntry kEntries[] = {
     {kF, "event log ring (hal::EventLog, 256 events)", "vtm_hal", sizeof(hal::EventLog)},
+    {kF, "ML stereo workspace (1024x1024, 128 disparities)", "vtm_stereo", flightStereoWorkspace()},
     {kP, "hal::FileCamera (1024 frame records)", "vtm_hal_file", sizeof(hal::FileCamera)},
     {kP, "hal::FileOdometry (4096 poses)", "vtm_hal_file", sizeof(hal::FileOdometry)},
     {kP, "frame file buffer (shared)", "vtm_hal_file", hal::file_limits::kMaxFrameFileBytes},
