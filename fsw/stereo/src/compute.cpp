@@ -61,47 +61,49 @@ void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t slot) 
     }
 }
 
-// Window sums of the completed row: running sums of the column sums along x.
-void windowSums(const Work& k) {
+// Window sums of the completed row (running sums of the column sums along x), and in the
+// same pass the best disparity per left column (ties: the lowest disparity).
+void windowSumsAndBest(const Work& k) {
     const Plan& p = k.p;
     const std::int32_t span = 2 * p.half;
+    for (std::int32_t x = 0; x < k.w; ++x) {
+        k.best[x] = kInfCost;
+        k.bestIndex[x] = 0;
+    }
     for (std::int32_t j = 0; j < p.disparities; ++j) {
         const std::uint16_t* col = k.colSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.costStride);
         std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
+        const auto keep = [&k, win, j](std::int32_t x, std::int32_t sum) {
+            win[x] = static_cast<std::uint16_t>(sum);
+            if (sum < k.best[x]) {
+                k.best[x] = sum;
+                k.bestIndex[x] = static_cast<std::int16_t>(j);
+            }
+        };
         std::int32_t s = 0;
         for (std::int32_t i = 0; i <= span; ++i) {
             s += col[i];
         }
-        win[0] = static_cast<std::uint16_t>(s);
+        keep(0, s);
         for (std::int32_t x = 1; x < k.w; ++x) {
             s += col[x + span] - col[x - 1];
-            win[x] = static_cast<std::uint16_t>(s);
+            keep(x, s);
         }
     }
 }
 
-// Best and second-best (at least 2 disparities away) window per left column, and the
-// best disparity per right column over the same sums (the right-to-left search).
+// Second-best (at least 2 disparities away from the best) per left column, and the best
+// disparity per right column over the same sums (the right-to-left search); each only
+// when its check is enabled.
 void searchRow(const Work& k) {
     const Plan& p = k.p;
     for (std::int32_t x = 0; x < k.w; ++x) {
-        k.best[x] = kInfCost;
         k.second[x] = kInfCost;
-        k.bestIndex[x] = 0;
         k.rlCost[x] = kInfCost;
         k.rlIndex[x] = -1;
     }
-    for (std::int32_t j = 0; j < p.disparities; ++j) {
+    for (std::int32_t j = 0; j < p.disparities && k.c.lr_max_diff_px >= 0; ++j) {
         const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
-        for (std::int32_t x = 0; x < k.w; ++x) {
-            if (win[x] < k.best[x]) {
-                k.best[x] = win[x];
-                k.bestIndex[x] = static_cast<std::int16_t>(j);
-            }
-        }
-        if (k.c.lr_max_diff_px < 0) {
-            continue;  // no right-to-left search without the left-right check
-        }
         const std::int32_t d = k.c.d_min + j;
         const std::int32_t xrLo = d < 0 ? -d : 0;
         const std::int32_t xrHi = d > 0 ? k.w - d : k.w;
@@ -184,7 +186,7 @@ Decision decide(const Work& k, std::int32_t x) {
 }
 
 void emitRow(const Work& k, std::int32_t y, const DisparityOutput& out, StereoStats* stats) {
-    windowSums(k);
+    windowSumsAndBest(k);
     searchRow(k);
     std::int16_t* disp = out.disparity_px16.row(y);
     float* sigma = out.sigma_px.valid() ? out.sigma_px.row(y) : nullptr;
