@@ -25,7 +25,8 @@ done
 JOBS=${JOBS:-$(nproc)}
 
 # ---- packages ---------------------------------------------------------------------
-pkgs="cmake ninja-build g++ googletest libeigen3-dev libstb-dev libcli11-dev libopencv-dev libbenchmark-dev python3"
+. "$here/tools/scripts/ensure_packages.sh"
+pkgs="$VTM_HOST_PACKAGES"
 [ -n "$targets" ] && pkgs="$pkgs qemu-user"
 [ "$all" = 1 ] && pkgs="$pkgs clang-tidy cppcheck valgrind"
 for t in $targets; do
@@ -38,22 +39,7 @@ for t in $targets; do
     *) echo "test.sh: unknown target '$t' (known: $ALL_TARGETS)" >&2; exit 2 ;;
   esac
 done
-missing=""
-for p in $pkgs; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
-done
-if [ -n "$missing" ]; then
-  if [ "$(id -u)" = 0 ]; then
-    echo "== installing:$missing"
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq && apt-get install -y -qq --no-install-recommends $missing || {
-      echo "test.sh: apt-get install failed" >&2; exit 1; }
-  else
-    echo "test.sh: missing packages. Run as root:" >&2
-    echo "  apt-get update && apt-get install -y --no-install-recommends$missing" >&2
-    exit 1
-  fi
-fi
+ensure_packages $pkgs || exit 1
 
 # ---- steps ------------------------------------------------------------------------
 passed=0; failed=0; failures=""

@@ -1,20 +1,8 @@
-# Cross toolchain: aarch64, Cortex-A53 class (HPSC-like application cores)
-# Debian packages: g++-aarch64-linux-gnu, qemu-user. Tests run under qemu-user through CMAKE_CROSSCOMPILING_EMULATOR;
-# executables are linked statically so qemu needs no sysroot prefix.
-set(CMAKE_SYSTEM_NAME Linux)
-set(CMAKE_SYSTEM_PROCESSOR aarch64)
-set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)
-set(CMAKE_CXX_COMPILER aarch64-linux-gnu-g++)
-set(CMAKE_C_FLAGS_INIT "-mcpu=cortex-a53")
-set(CMAKE_CXX_FLAGS_INIT "-mcpu=cortex-a53")
-set(CMAKE_EXE_LINKER_FLAGS_INIT "-mcpu=cortex-a53 -static")
-set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64)
-set(VTM_TARGET_NAME aarch64 CACHE STRING "Target name" FORCE)
-# Target libraries and headers come from the cross sysroot only; Eigen is header-only
-# and target-independent, so the host's copy is used.
-set(CMAKE_FIND_ROOT_PATH /usr/aarch64-linux-gnu)
-set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
-set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
-set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
-set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
-set(Eigen3_DIR /usr/share/eigen3/cmake CACHE PATH "Host Eigen (header-only)")
+# Cross toolchain: aarch64, Cortex-A53 class (HPSC-like application cores).
+# Debian packages: g++-aarch64-linux-gnu, qemu-user.
+set(VTM_CROSS_TARGET aarch64)
+set(VTM_CROSS_TRIPLE aarch64-linux-gnu)
+set(VTM_CROSS_FLAGS "-mcpu=cortex-a53")
+set(VTM_CROSS_PROCESSOR aarch64)
+set(VTM_CROSS_EMULATOR qemu-aarch64)
+include(${CMAKE_CURRENT_LIST_DIR}/linux-cross.cmake)
