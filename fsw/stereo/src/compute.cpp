@@ -284,6 +284,9 @@ Status MlStereo::compute(const ImageView<const std::uint8_t>& left, const ImageV
            rlIndex_.data()};
     prefilterInto(config_, left, boxColumns_.data(), k.left);
     prefilterInto(config_, right, boxColumns_.data(), k.right);
+    // Columns of the DT cost row outside the right image stay at the outlier cost for the
+    // whole pair (the y pass writes only inside); unused bins' stale rows are never read.
+    std::memset(dtRow_.data(), k.p.maxCost, dtRow_.size());
     std::memset(costRing_.data(), 0, costRing_.size());
     std::memset(colSums_.data(), 0, colSums_.size() * sizeof(std::uint16_t));
     if (stats != nullptr) {

@@ -37,7 +37,6 @@ void distanceTransformRowY(const Plan& p, const RowGeometry& g, const std::uint8
                            const std::uint8_t* costTable, std::uint8_t* dtRow) noexcept {
     const std::int32_t slots = 2 * p.radius + 1;
     const std::size_t ringRow = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
-    std::memset(dtRow, p.maxCost, static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.dtStride));
     const std::int32_t kLo = g.y - p.radius < 0 ? -g.y : -p.radius;
     const std::int32_t kHi = g.y + p.radius >= g.height ? g.height - 1 - g.y : p.radius;
     const auto at = [&](std::int32_t k, std::int32_t i) {
@@ -51,9 +50,12 @@ void distanceTransformRowY(const Plan& p, const RowGeometry& g, const std::uint8
         std::uint8_t* dst = dtRow + static_cast<std::ptrdiff_t>(i) * p.dtStride + p.padLeft;
         std::memcpy(dst, at(0, i), static_cast<std::size_t>(g.width));  // k = 0 adds nothing
         for (std::int32_t k = kLo; k <= kHi; ++k) {
+            if (k == 0) {
+                continue;  // already copied
+            }
             const std::uint8_t* src = at(k, i);
             const auto add = static_cast<std::uint32_t>(k * k * p.d2Scale);
-            for (std::int32_t u = 0; u < g.width && k != 0; ++u) {
+            for (std::int32_t u = 0; u < g.width; ++u) {
                 const std::uint32_t d2 = src[u] + add;
                 const std::uint32_t cur = dst[u];
                 dst[u] = static_cast<std::uint8_t>(d2 < cur ? d2 : cur);
@@ -71,25 +73,36 @@ void removeLocalMean(const ImageView<const std::uint8_t>& in, std::int32_t windo
     const std::int32_t h = in.height();
     const std::int32_t r = window / 2;
     const std::int32_t area = window * window;
-    for (std::int32_t y = 0; y < h; ++y) {
-        // Column sums over rows y-r..y+r with replicated borders.
+    const auto clampRow = [h](std::int32_t y) { return y < 0 ? 0 : (y >= h ? h - 1 : y); };
+    const auto clampCol = [w](std::int32_t x) { return x < 0 ? 0 : (x >= w ? w - 1 : x); };
+    // Column sums over rows y-r..y+r with replicated borders, kept running down the image.
+    for (std::int32_t x = 0; x < w; ++x) {
+        columns[x] = 0;
+    }
+    for (std::int32_t k = -r; k <= r; ++k) {
+        const std::uint8_t* row = in.row(clampRow(k));
         for (std::int32_t x = 0; x < w; ++x) {
-            columns[x] = 0;
+            columns[x] += row[x];
         }
-        for (std::int32_t k = -r; k <= r; ++k) {
-            const std::int32_t yy = y + k < 0 ? 0 : (y + k >= h ? h - 1 : y + k);
-            const std::uint8_t* row = in.row(yy);
+    }
+    for (std::int32_t y = 0; y < h; ++y) {
+        if (y > 0) {
+            const std::uint8_t* enter = in.row(clampRow(y + r));
+            const std::uint8_t* leave = in.row(clampRow(y - r - 1));
             for (std::int32_t x = 0; x < w; ++x) {
-                columns[x] += row[x];
+                columns[x] += enter[x] - leave[x];
             }
+        }
+        // Window sum along the row, kept running across x.
+        std::int32_t sum = 0;
+        for (std::int32_t k = -r; k <= r; ++k) {
+            sum += columns[clampCol(k)];
         }
         const std::uint8_t* src = in.row(y);
         std::uint8_t* dst = out.row(y);
         for (std::int32_t x = 0; x < w; ++x) {
-            std::int32_t sum = 0;
-            for (std::int32_t k = -r; k <= r; ++k) {
-                const std::int32_t xx = x + k < 0 ? 0 : (x + k >= w ? w - 1 : x + k);
-                sum += columns[xx];
+            if (x > 0) {
+                sum += columns[clampCol(x + r)] - columns[clampCol(x - r - 1)];
             }
             const std::int32_t mean = (sum + area / 2) / area;
             const std::int32_t v = 128 + 2 * (static_cast<std::int32_t>(src[x]) - mean);

@@ -9,24 +9,20 @@
 // the window sums, from which the row's disparities are decided.
 #include "vtm/stereo/ml_stereo.hpp"
 
-#include <cstring>
-
 #include "plan.hpp"
-#include "vtm/core/math.hpp"
 
 namespace vtm::stereo {
 namespace {
 
 using detail::Plan;
 
-
 struct Sizes {
     std::size_t image;      // one prefiltered image
     std::size_t dtRing;     // (2r+1) x-pass rows
     std::size_t dtRow;      // bins * dtStride
     std::size_t costRing;   // window * D * costStride
-    std::size_t sums;       // D * costStride (column sums), D * width (window sums)
-    std::size_t winSums;
+    std::size_t sums;       // D * costStride (column sums)
+    std::size_t winSums;    // D * width (window sums)
 };
 
 Sizes sizesOf(const Config& c, const Plan& p) noexcept {

@@ -44,7 +44,8 @@ void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int
 
 // y pass for one row y: combines the x-pass rows y-r..y+r held in the ring (row v in slot
 // v mod (2r+1)), maps each D2 through the cost table and writes matching costs into
-// dtRow (bins rows of dtStride; columns outside the right image hold maxCost).
+// dtRow (bins rows of dtStride), columns [padLeft, padLeft + width) of the used bins only.
+// The columns outside the right image must hold maxCost: compute() fills dtRow once.
 struct RowGeometry {
     std::int32_t y;       // the row
     std::int32_t height;  // image height
