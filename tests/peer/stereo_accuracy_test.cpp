@@ -24,9 +24,6 @@ using vtm::ground::FloatImage;
 using vtm::peer::fixture::dataDir;
 using vtm::peer::fixture::score;
 
-// Ground-truth maxima in the README (numDisparities = max rounded up to 16).
-double maxDisparity(const std::string& set) { return set == "tsukuba" ? 14.0 : (set == "venus" ? 19.75 : 52.75); }
-
 FloatImage runVtm(const vtm::ground::MiddleburyPair& pair, vtm::stereo::Config c, int numDisparities) {
     c.max_width = pair.left.width;
     c.max_height = pair.left.height;
@@ -62,7 +59,7 @@ TEST(StereoAccuracy, MlStereoAgainstPeersOnMiddlebury) {
         const auto loaded = vtm::ground::loadMiddleburyPair(dataDir(), set);
         ASSERT_TRUE(loaded.ok) << loaded.error;
         const auto& pair = loaded.value;
-        const int nd = vtm::peer::numDisparitiesFor(maxDisparity(set));
+        const int nd = vtm::peer::numDisparitiesFor(vtm::peer::fixture::maxKnownDisparity(pair));
         const cv::Mat l = vtm::peer::asMat(pair.left.view());
         const cv::Mat r = vtm::peer::asMat(pair.right.view());
         const auto vtmErr = score(runVtm(pair, vtm::stereo::Config{}, nd), pair);
@@ -83,7 +80,7 @@ TEST(StereoAccuracy, ConservativePresetIsMoreOftenRightWhenItAnswers) {
     for (const std::string set : {"tsukuba", "venus", "teddy"}) {
         const auto loaded = vtm::ground::loadMiddleburyPair(dataDir(), set);
         ASSERT_TRUE(loaded.ok) << loaded.error;
-        const int nd = vtm::peer::numDisparitiesFor(maxDisparity(set));
+        const int nd = vtm::peer::numDisparitiesFor(vtm::peer::fixture::maxKnownDisparity(loaded.value));
         const auto dense = score(runVtm(loaded.value, vtm::stereo::Config{}, nd), loaded.value);
         const auto safe = score(runVtm(loaded.value, vtm::stereo::Config::conservative(), nd), loaded.value);
         std::printf("%s: wrong among answered: dense %.2f %% (invalid %.2f %%), conservative %.2f %% (invalid %.2f %%)\n",
@@ -130,7 +127,7 @@ TEST(StereoAccuracy, AblationTable) {
         std::printf("| %s |", v.name);
         double sum = 0.0;
         for (const auto& pair : pairs) {
-            const int nd = vtm::peer::numDisparitiesFor(maxDisparity(pair.set->name));
+            const int nd = vtm::peer::numDisparitiesFor(vtm::peer::fixture::maxKnownDisparity(pair));
             const double bad1 = score(runVtm(pair, c, nd), pair).bad1_percent;
             sum += bad1;
             std::printf(" %.2f |", bad1);
