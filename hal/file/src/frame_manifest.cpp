@@ -23,6 +23,7 @@ struct HeaderSeen {
     bool height = false;
     bool bit_depth = false;
     bool model = false;
+    std::int64_t model_line = 0;  // where the model was given, for its validation error
 };
 
 Status corrupt(const char* reason, std::int64_t line) noexcept {
@@ -54,11 +55,6 @@ void copyVector(const double* from, double* to) noexcept {
     }
 }
 
-bool isUnitVector(const double* v) noexcept {
-    const double n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    return n2 >= 1.0 - 2e-6 && n2 <= 1.0 + 2e-6;  // |v| within about 1e-6 of 1
-}
-
 // "model pinhole fx fy cx cy k1 k2 k3 p1 p2" | "model cahv C A H V" | "model cahvor C A H V O R".
 Status readModel(const LineTokens& t, std::int64_t line, CameraModel& m) noexcept {
     double v[18] = {};
@@ -85,9 +81,6 @@ Status readModel(const LineTokens& t, std::int64_t line, CameraModel& m) noexcep
         }
     }
     if (m.kind == CameraModelKind::kPinholeBrown) {
-        if (!(v[0] > 0.0 && v[1] > 0.0)) {
-            return corrupt("manifest: model pinhole fx and fy must be positive", line);
-        }
         double* const fields[9] = {&m.fx_px, &m.fy_px, &m.cx_px, &m.cy_px, &m.k1, &m.k2, &m.k3, &m.p1, &m.p2};
         for (std::size_t i = 0U; i < 9U; ++i) {
             *fields[i] = v[i];
@@ -98,9 +91,8 @@ Status readModel(const LineTokens& t, std::int64_t line, CameraModel& m) noexcep
     for (std::size_t k = 0U; k < needed / 3U; ++k) {
         copyVector(&v[3U * k], vectors[k]);
     }
-    if (!isUnitVector(m.a) || (m.kind == CameraModelKind::kCahvor && !isUnitVector(m.o))) {
-        return corrupt("manifest: model A or O is not a unit vector", line);
-    }
+    // The model's own rules (fx > 0, unit A and O, invertible distortion, ...) need the
+    // image size: validateCameraModel() runs in finishHeader().
     return Status::ok();
 }
 
@@ -138,6 +130,7 @@ Status readHeaderLine(const LineTokens& t, std::int64_t line, HeaderSeen& seen, 
         cam.bit_depth = static_cast<std::uint8_t>(v);
     } else if (textEquals(key, "model")) {
         VTM_RETURN_IF_ERROR(markSeen(seen.model, line));
+        seen.model_line = line;
         return readModel(t, line, cam.model);
     } else {
         return corrupt("manifest: unknown key", line);
@@ -166,6 +159,14 @@ Status finishHeader(const HeaderSeen& seen, std::int64_t line, CameraDescription
     }
     cam.model.width_px = static_cast<std::uint16_t>(cam.width_px);
     cam.model.height_px = static_cast<std::uint16_t>(cam.height_px);
+    if (seen.model) {
+        // One set of rules for every camera model (vtm/core/camera_model.hpp): its reason
+        // names the field; the manifest reports it as corrupt data on the model's line.
+        const Status valid = validateCameraModel(cam.model);
+        if (!valid.isOk()) {
+            return corrupt(valid.reason(), seen.model_line);
+        }
+    }
     return Status::ok();
 }
 

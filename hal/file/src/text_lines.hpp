@@ -8,6 +8,7 @@
 
 #include "hal/file/file_limits.hpp"
 #include "vtm/core/status.hpp"
+#include "vtm/core/text_number.hpp"
 
 namespace vtm::hal::detail {
 
@@ -65,13 +66,9 @@ struct LineTokens {
 
 [[nodiscard]] bool textEquals(const char* a, const char* b) noexcept;
 
-// Unsigned decimal integer (digits only, no sign, no leading '+') not above max_value.
-[[nodiscard]] bool parseUnsigned(const char* text, std::uint64_t max_value, std::uint64_t& out) noexcept;
-
-// A decimal or hexadecimal floating-point number as std::strtod reads it in the "C"
-// locale (correctly rounded), the whole field consumed. NaN and infinity parse; the
-// callers check finiteness where it matters.
-[[nodiscard]] bool parseReal(const char* text, double& out) noexcept;
+// Numbers: the one parser of flight code (vtm/core/text_number.hpp).
+using ::vtm::text::parseReal;
+using ::vtm::text::parseUnsigned;
 
 // Length of a NUL-terminated string, or limit + 1 if it is longer than limit.
 [[nodiscard]] std::size_t boundedLength(const char* text, std::size_t limit) noexcept;
