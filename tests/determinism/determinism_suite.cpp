@@ -6,6 +6,9 @@
 #include "vtm/core/image.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/core/random.hpp"
+#include "sim/render.hpp"
+#include "sim/terrain.hpp"
+#include "vtm/core/camera_model.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
 namespace vtm::determinism {
@@ -27,6 +30,14 @@ public:
         addU64(bits);
     }
     void addI64(std::int64_t v) noexcept { addU64(static_cast<std::uint64_t>(v)); }
+    // Floats with every NaN hashed as one value (NaN payloads may differ between FPUs).
+    void addFloat(float f) noexcept {
+        if (f != f) {
+            addU64(0x7FF8000000000000ULL);
+        } else {
+            addDouble(static_cast<double>(f));
+        }
+    }
     [[nodiscard]] std::uint64_t value() const noexcept { return h_; }
 
 private:
@@ -208,6 +219,67 @@ std::uint64_t stereoSection() noexcept {
     return h.value();
 }
 
+// The simulated world (sim/): a small Mars terrain (its content hash), a 64 x 48 frame
+// through a pinhole and a CAHVOR camera with shot/read noise and cast shadows (image and
+// range truth), and the true disparity of a rectified pair.
+std::uint64_t simSection() noexcept {
+    constexpr std::int32_t kRw = 64;
+    constexpr std::int32_t kRh = 48;
+    sim::TerrainParams params = sim::defaultMarsTerrainParams();
+    params.seed = 3U;
+    params.finest_cell_m = 0.02;
+    params.samples_log2 = 6;
+    params.levels = 7;
+    params.rock_region_radius_m = 10.0;
+    static std::byte pool[4U << 20U];
+    Arena arena(pool, sizeof pool);
+    static sim::Terrain terrain;
+    Hasher h;
+    const Status built = terrain.build(params, arena);
+    h.addI64(static_cast<std::int64_t>(built.code()));
+    if (!built.isOk()) {
+        return h.value();
+    }
+    h.addU64(terrain.contentHash());
+    static std::uint8_t image[kRw * kRh];
+    static float range[kRw * kRh];
+    sim::FrameRequest r;
+    r.terrain = &terrain;
+    const double ground = terrain.elevationAt(0.0, 0.0);
+    r.pose = sim::poseLookingAt(Vec3(0.0, 0.0, -(ground + 1.6)), Vec3(4.0, 0.5, -ground));
+    r.frame_index = 2U;
+    sim::FrameOutput out;
+    out.image8 = ImageView<std::uint8_t>(image, kRw, kRh);
+    out.truth.range_m = ImageView<float>(range, kRw, kRh);
+    CameraModel cahvor = cahvFromPinhole(makePinhole(kRw, kRh, 50.0));
+    cahvor.kind = CameraModelKind::kCahvor;
+    cahvor.o[2] = 1.0;
+    cahvor.r[1] = -0.06;
+    const CameraModel models[2] = {makePinhole(kRw, kRh, 50.0), cahvor};
+    for (const CameraModel& m : models) {
+        r.model = m;
+        h.addI64(static_cast<std::int64_t>(sim::renderFrame(r, out, nullptr).code()));
+        for (std::int32_t i = 0; i < kRw * kRh; ++i) {
+            h.addI64(image[i]);
+            h.addFloat(range[i]);
+        }
+    }
+    sim::StereoTruthRequest sr;
+    sr.terrain = &terrain;
+    sr.left_model = models[0];
+    sr.left_pose = r.pose;
+    sr.baseline_m = 0.3;
+    static std::uint8_t code[kRw * kRh];
+    const sim::StereoTruthOutput so{ImageView<float>(range, kRw, kRh), ImageView<std::uint8_t>(code, kRw, kRh),
+                                    ImageView<float>()};
+    h.addI64(static_cast<std::int64_t>(sim::rectifiedDisparity(sr, so).code()));
+    for (std::int32_t i = 0; i < kRw * kRh; ++i) {
+        h.addFloat(range[i]);
+        h.addI64(code[i]);
+    }
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -218,6 +290,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kImage: return "image";
         case Section::kFmaSensitive: return "fma_sensitive";
         case Section::kStereo: return "stereo";
+        case Section::kSim: return "sim";
     }
     return "unknown";
 }
@@ -230,6 +303,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kImage: return imageSection();
         case Section::kFmaSensitive: return fmaSensitiveSection();
         case Section::kStereo: return stereoSection();
+        case Section::kSim: return simSection();
     }
     return 0U;
 }

@@ -7,7 +7,9 @@
 //   - integer image operations (box sums, gradients, thresholds) on a generated image;
 //   - FMA-sensitive expressions (a*b + c with cancellation): any contraction into a
 //     fused multiply-add by the compiler changes these bits;
-//   - the ML dense stereo module on a generated pair (disparity, sigma, reason).
+//   - the ML dense stereo module on a generated pair (disparity, sigma, reason);
+//   - the simulated world: a small Mars terrain and a rendered frame (pinhole and
+//     CAHVOR, noise and shadows on), its range truth and a rectified pair's disparity.
 #pragma once
 
 #include <cstdint>
@@ -21,8 +23,9 @@ enum class Section : std::uint8_t {
     kImage = 3,
     kFmaSensitive = 4,
     kStereo = 5,
+    kSim = 6,
 };
-constexpr int kSectionCount = 6;
+constexpr int kSectionCount = 7;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;
