@@ -4,7 +4,8 @@
 #   tools/test.sh            host Release build + unit tests + policy checks
 #   tools/test.sh --all      also: ASan+UBSan build, static analysis (clang-tidy,
 #                            cppcheck), and all five cross targets under qemu-user,
-#                            then the static-memory / stack budget of every target
+#                            then the static-memory / stack budget of every target,
+#                            and bounded libFuzzer runs (FUZZ_SECONDS, default 30)
 #   tools/test.sh --targets "aarch64 ppc750"   host + the named cross targets only
 # Environment: JOBS (parallel build jobs, default: number of cores).
 set -uo pipefail
@@ -28,7 +29,7 @@ JOBS=${JOBS:-$(nproc)}
 . "$here/tools/scripts/ensure_packages.sh"
 pkgs="$VTM_HOST_PACKAGES"
 [ -n "$targets" ] && pkgs="$pkgs qemu-user"
-[ "$all" = 1 ] && pkgs="$pkgs clang-tidy cppcheck valgrind"
+[ "$all" = 1 ] && pkgs="$pkgs clang-tidy cppcheck valgrind clang libclang-rt-14-dev"
 for t in $targets; do
   case "$t" in
     aarch64) pkgs="$pkgs g++-aarch64-linux-gnu" ;;
@@ -103,6 +104,8 @@ if [ "$all" = 1 ]; then
   step "host-asan tests" ctest_counted host-asan
   step "static analysis" tools/checks/static_analysis.sh build/host-release
   step "valgrind memcheck (host unit tests)" memcheck build/host-release
+  # Bounded libFuzzer runs of the parsers that face the outside (docs/static-analysis.md).
+  step "fuzz (link decoder, file readers, camera model; ${FUZZ_SECONDS:-30} s each)" tools/checks/fuzz.sh
 fi
 budget_dirs="build/host-release"
 for t in $targets; do
