@@ -235,7 +235,7 @@ Status projectPoint(const CameraModel& model, const Vec3& point_m, Vec2& pixel) 
         case CameraModelKind::kNone:
             break;
     }
-    VTM_ASSERT(false && "projectPoint: model kind is kNone");
+    VTM_ASSERT(false);  // projectPoint: model kind is kNone
     return Status(StatusCode::kInvalidArgument, "projectPoint: camera model kind is none");
 }
 

@@ -66,6 +66,8 @@ constexpr FieldSpec kFields[] = {
 constexpr std::size_t kFieldCount = sizeof kFields / sizeof kFields[0];
 
 double* fieldStorage(CameraModel& m, std::size_t index) noexcept {
+    // The entries point into `m` for writing: they cannot point to const.
+    // cppcheck-suppress constVariable
     double* const storage[kFieldCount] = {&m.fx_px, &m.fy_px, &m.cx_px, &m.cy_px, &m.k1, &m.k2, &m.k3, &m.p1,
                                           &m.p2,    m.c,      m.a,      m.h,      m.v,   m.o,   m.r};
     return storage[index];
