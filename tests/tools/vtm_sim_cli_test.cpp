@@ -1,0 +1,266 @@
+// `vtm-sim render` as a user runs it: every documented output file is written, and reading
+// the files back (tools/ground readers, hal/file FileCamera and FileOdometry) gives the
+// same pixels, depths, disparities, poses and camera models as computing the scenario in
+// this process; bad input gives a non-zero exit code and one line naming the field.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ground_test_files.hpp"
+#include "hal/file/file_camera.hpp"
+#include "hal/file/file_odometry.hpp"
+#include "sim/render.hpp"
+#include "sim/scenario.hpp"
+#include "vtm/ground/camera_model_io.hpp"
+#include "vtm/ground/image_io.hpp"
+#include "vtm/ground/pfm.hpp"
+#include "vtm/ground/sim_output.hpp"
+
+namespace vtm::ground {
+namespace {
+
+const std::string kSmall = std::string(VTM_SCENARIO_DIR) + "/test_rover_small.scn";
+
+struct CommandRun {
+    int exit_code = -1;
+    std::string err;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+CommandRun vtmSim(const test::TempDir& dir, const std::string& args) {
+    const std::string out = dir.file("stdout.txt");
+    const std::string err = dir.file("stderr.txt");
+    const std::string cmd = std::string("'") + VTM_SIM_EXECUTABLE + "' " + args + " >'" + out + "' 2>'" + err + "'";
+    const int status = std::system(cmd.c_str());
+    CommandRun r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.err = slurp(err);
+    return r;
+}
+
+// The scenario computed in this process: terrain, frames, renders.
+struct InProcess {
+    sim::Scenario scenario;
+    std::vector<std::byte> storage;
+    std::unique_ptr<Arena> arena;
+    sim::Terrain terrain;
+    std::unique_ptr<sim::ScenarioFrames> frames = std::make_unique<sim::ScenarioFrames>();
+
+    explicit InProcess(const std::string& text) {
+        EXPECT_TRUE(sim::parseScenario(text, scenario).isOk());
+        storage.resize(sim::scenarioTerrainBytes(scenario));
+        arena = std::make_unique<Arena>(storage.data(), storage.size());
+        EXPECT_TRUE(sim::buildScenarioTerrain(scenario, *arena, terrain).isOk());
+        EXPECT_TRUE(sim::buildScenarioFrames(scenario, terrain, *frames).isOk());
+    }
+
+    // Frame k rendered here: 8-bit or 16-bit pixels (widened) and depth with sky = +inf.
+    void render(int k, std::vector<std::uint16_t>& pixels, FloatImage& depth) const {
+        const sim::ScenarioFrame& f = frames->frames[k];
+        const int w = f.model.width_px;
+        const int h = f.model.height_px;
+        GreyImage img8(w, h);
+        Grey16Image img16(w, h);
+        depth = FloatImage(w, h);
+        sim::FrameRequest request;
+        request.terrain = &terrain;
+        request.model = f.model;
+        request.pose = f.camera_pose;
+        request.lighting = scenario.lighting;
+        request.sensor = f.sensor;
+        request.frame_index = f.index;
+        sim::FrameOutput out;
+        if (f.sensor.bit_depth == 8) {
+            out.image8 = img8.view();
+        } else {
+            out.image16 = img16.view();
+        }
+        out.truth.depth_m = depth.view();
+        ASSERT_TRUE(sim::renderFrame(request, out, nullptr).isOk());
+        pixels.clear();
+        for (std::size_t i = 0; i < img8.pixels.size(); ++i) {
+            pixels.push_back(f.sensor.bit_depth == 8 ? img8.pixels[i] : img16.pixels[i]);
+        }
+        for (float& v : depth.pixels) {
+            if (std::isnan(v)) v = std::numeric_limits<float>::infinity();
+        }
+    }
+};
+
+bool samePose(const hal::PoseEstimate& a, const sim::VehiclePose& b) {
+    return a.timestamp_ns == b.timestamp_ns && std::memcmp(a.position_m, b.position_m, sizeof(b.position_m)) == 0 &&
+           std::memcmp(a.attitude_wxyz, b.attitude_wxyz, sizeof(b.attitude_wxyz)) == 0 &&
+           std::memcmp(a.covariance, b.covariance, sizeof(b.covariance)) == 0;
+}
+
+TEST(VtmSimRender, WritesEveryDocumentedFileAndItReadsBackAsComputedInProcess) {
+    const test::TempDir dir;
+    const std::string out = dir.file("out");
+    const CommandRun run = vtmSim(dir, "render '" + kSmall + "' '" + out + "'");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const char* files[] = {"README.md", "scenario.scn", "truth.poses", "odometry.poses", "camera_poses.txt",
+                           "mast.frames", "mast.cmod", "stereo_left.frames", "stereo_left.cmod",
+                           "stereo_right.frames", "stereo_right.cmod", "stereo_left_000_disparity.pfm",
+                           "stereo_left_000_disparity_code.png"};
+    for (const char* f : files) {
+        EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + f)) << f;
+    }
+    const InProcess world(slurp(kSmall));
+    ASSERT_EQ(world.frames->count, 4);
+    const char* manifests[] = {"mast", "stereo_left", "stereo_right"};
+    static hal::FileCamera camera;
+    for (const char* name : manifests) {
+        const std::string manifest = out + "/" + name + ".frames";
+        ASSERT_TRUE(camera.init({manifest.c_str()}).isOk()) << name;
+        for (int k = 0; k < world.frames->count; ++k) {
+            const sim::ScenarioFrame& f = world.frames->frames[k];
+            const std::string stem = std::string(name) + "_00" + std::to_string(f.sequence);
+            if ((std::string(name) == "mast") != (f.role == sim::FrameRole::kMain) ||
+                (std::string(name) == "stereo_left") != (f.role == sim::FrameRole::kStereoLeft)) {
+                continue;
+            }
+            std::vector<std::uint16_t> expected;
+            FloatImage depth;
+            world.render(k, expected, depth);
+            GreyImage played(f.model.width_px, f.model.height_px);
+            hal::FrameInfo info;
+            ASSERT_TRUE(camera.capture(played.view(), info).isOk()) << stem;
+            EXPECT_EQ(info.timestamp_ns, f.timestamp_ns);
+            EXPECT_TRUE(std::equal(expected.begin(), expected.end(), played.pixels.begin())) << stem;
+            const Result<FloatImage> pfm = readPfm(out + "/" + stem + "_depth.pfm");
+            ASSERT_TRUE(pfm.ok) << pfm.error;
+            EXPECT_EQ(pfm.value.pixels, depth.pixels) << stem;
+            CameraModel model;
+            ASSERT_TRUE(readCameraModelFile(out + "/" + name + ".cmod", model).ok);
+            EXPECT_EQ(std::memcmp(&model.fx_px, &f.model.fx_px, 9 * sizeof(double)), 0);
+        }
+    }
+    static hal::FileOdometry truth;
+    static hal::FileOdometry odometry;
+    ASSERT_TRUE(truth.init({(out + "/truth.poses").c_str(), 0U}).isOk());
+    ASSERT_TRUE(odometry.init({(out + "/odometry.poses").c_str(), 0U}).isOk());
+    EXPECT_EQ(truth.poseCount(), 2U);  // two rover stations
+    for (int k = 0; k < world.frames->count; ++k) {
+        const sim::ScenarioFrame& f = world.frames->frames[k];
+        hal::PoseEstimate p;
+        ASSERT_TRUE(truth.poseAt(f.timestamp_ns, p).isOk());
+        EXPECT_TRUE(samePose(p, f.true_pose)) << k;
+        ASSERT_TRUE(odometry.poseAt(f.timestamp_ns, p).isOk());
+        EXPECT_TRUE(samePose(p, f.odometry_pose)) << k;
+    }
+    const Result<std::vector<SimCameraPose>> poses = readCameraPoses(out + "/camera_poses.txt");
+    ASSERT_TRUE(poses.ok) << poses.error;
+    ASSERT_EQ(poses.value.size(), 4U);
+    for (const SimCameraPose& p : poses.value) {
+        const sim::CameraPose& truth_pose = world.frames->frames[p.frame_index].camera_pose;
+        for (int i = 0; i < 3; ++i) EXPECT_EQ(p.position_m[i], truth_pose.position_site_m[i]);
+        const Quat q(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
+        EXPECT_LT((q.toRotationMatrix() - truth_pose.R_site_from_ref).norm(), 1e-12);
+    }
+}
+
+TEST(VtmSimRender, TrueDisparityFileMatchesTheRectifiedPairInProcess) {
+    const test::TempDir dir;
+    const std::string out = dir.file("out");
+    ASSERT_EQ(vtmSim(dir, "render '" + kSmall + "' '" + out + "' --frames 2").exit_code, 0);
+    const InProcess world(slurp(kSmall));
+    const sim::ScenarioFrame& left = world.frames->frames[2];
+    FloatImage disparity(left.model.width_px, left.model.height_px);
+    sim::StereoTruthRequest request;
+    request.terrain = &world.terrain;
+    request.left_model = left.model;
+    request.left_pose = left.camera_pose;
+    request.baseline_m = 0.42;
+    sim::StereoTruthOutput truth;
+    truth.disparity_px = disparity.view();
+    ASSERT_TRUE(sim::rectifiedDisparity(request, truth).isOk());
+    const Result<FloatImage> pfm = readPfm(out + "/stereo_left_000_disparity.pfm");
+    ASSERT_TRUE(pfm.ok) << pfm.error;
+    int finite = 0;
+    for (std::size_t i = 0; i < disparity.pixels.size(); ++i) {
+        const float d = disparity.pixels[i];
+        if (std::isnan(d)) {
+            EXPECT_TRUE(std::isinf(pfm.value.pixels[i]));
+        } else {
+            EXPECT_EQ(pfm.value.pixels[i], d);
+            ++finite;
+        }
+    }
+    EXPECT_GT(finite, 0);
+    // Only the requested frame was rendered; the others are absent.
+    EXPECT_FALSE(std::filesystem::exists(out + "/mast_000.png"));
+    EXPECT_TRUE(std::filesystem::exists(out + "/stereo_left_000.png"));
+}
+
+TEST(VtmSimRender, TwelveBitFramesPlayBackFromPngAndPgm) {
+    const test::TempDir dir;
+    std::string text = slurp(kSmall);
+    text.replace(text.find("bit_depth 8"), 11, "bit_depth 12");
+    const std::string scenario = dir.file("twelve.scn");
+    std::ofstream(scenario) << text;
+    const InProcess world(text);
+    std::vector<std::uint16_t> expected;
+    FloatImage depth;
+    world.render(0, expected, depth);
+    for (const char* format : {"png", "pgm"}) {
+        const std::string out = dir.file(std::string("out_") + format);
+        const CommandRun run = vtmSim(dir, "render '" + scenario + "' '" + out + "' --frames 0 --format " + format);
+        ASSERT_EQ(run.exit_code, 0) << run.err;
+        static hal::FileCamera camera;
+        ASSERT_TRUE(camera.init({(out + "/mast.frames").c_str()}).isOk()) << format;
+        Grey16Image played(128, 128);
+        hal::FrameInfo info;
+        ASSERT_TRUE(camera.capture16(played.view(), info).isOk()) << format;
+        EXPECT_EQ(info.bit_depth, 12U);
+        EXPECT_EQ(played.pixels, expected) << format;
+        const Result<Grey16Image> loaded = loadGrey16(out + "/mast_000." + format);
+        ASSERT_TRUE(loaded.ok) << loaded.error;
+        EXPECT_EQ(loaded.value.pixels, expected) << format;
+    }
+}
+
+TEST(VtmSimRender, BadInputExitsNonZeroWithOneLineNamingTheField) {
+    const test::TempDir dir;
+    std::string text = slurp(kSmall);
+    text.replace(text.find("rock_k 0.05"), 11, "rock_k 0.9");
+    const std::string bad = dir.file("bad.scn");
+    std::ofstream(bad) << text;
+    struct Case {
+        std::string args;
+        int code;
+        std::string needle;
+    };
+    const Case cases[] = {
+        {"render '" + bad + "' '" + dir.file("o1") + "'", 1, "terrain.rock_k is out of range"},
+        {"render '" + dir.file("missing.scn") + "' '" + dir.file("o2") + "'", 1, "missing.scn: cannot open"},
+        {"render '" + kSmall + "' '" + dir.file("o3") + "' --frames 9", 2, "--frames: '9'"},
+        {"render '" + kSmall + "' '" + dir.file("o4") + "' --format jpg", 2, "jpg"},
+    };
+    for (const Case& c : cases) {
+        const CommandRun r = vtmSim(dir, c.args);
+        EXPECT_EQ(r.exit_code, c.code) << c.args << ": " << r.err;
+        EXPECT_NE(r.err.find(c.needle), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+    }
+    // The bad field's line number is in the message.
+    EXPECT_NE(vtmSim(dir, cases[0].args).err.find("line "), std::string::npos);
+}
+
+}  // namespace
+}  // namespace vtm::ground
