@@ -65,13 +65,7 @@ const ScenarioFrame& frameOf(std::uint8_t camera_id, std::uint32_t sequence) {
 // The frame as sim::renderFrame renders it when called directly.
 std::vector<std::uint8_t> directRender(const ScenarioFrame& frame) {
     std::vector<std::uint8_t> pixels(static_cast<std::size_t>(frame.model.width_px) * frame.model.height_px);
-    sim::FrameRequest r;
-    r.terrain = &world().terrain;
-    r.model = frame.model;
-    r.pose = frame.camera_pose;
-    r.lighting = world().scenario.lighting;
-    r.sensor = frame.sensor;
-    r.frame_index = frame.index;
+    const sim::FrameRequest r = sim::scenarioFrameRequest(world().scenario, world().terrain, frame);
     sim::FrameOutput o;
     o.image8 = ImageView<std::uint8_t>(pixels.data(), frame.model.width_px, frame.model.height_px);
     EXPECT_TRUE(sim::renderFrame(r, o, nullptr).isOk());

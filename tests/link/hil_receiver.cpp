@@ -111,13 +111,7 @@ struct Reference {
         return nullptr;
     }
     bool render(const sim::ScenarioFrame& f, std::vector<std::uint8_t>& px) const {
-        sim::FrameRequest request;
-        request.terrain = &terrain;
-        request.model = f.model;
-        request.pose = f.camera_pose;
-        request.lighting = scenario.lighting;
-        request.sensor = f.sensor;
-        request.frame_index = f.index;
+        const sim::FrameRequest request = sim::scenarioFrameRequest(scenario, terrain, f);
         px.assign(static_cast<std::size_t>(f.model.width_px) * f.model.height_px, 0U);
         sim::FrameOutput out;
         out.image8 = ImageView<std::uint8_t>(px.data(), f.model.width_px, f.model.height_px);

@@ -78,13 +78,7 @@ struct InProcess {
         GreyImage img8(w, h);
         Grey16Image img16(w, h);
         depth = FloatImage(w, h);
-        sim::FrameRequest request;
-        request.terrain = &terrain;
-        request.model = f.model;
-        request.pose = f.camera_pose;
-        request.lighting = scenario.lighting;
-        request.sensor = f.sensor;
-        request.frame_index = f.index;
+        const sim::FrameRequest request = sim::scenarioFrameRequest(scenario, terrain, f);
         sim::FrameOutput out;
         if (f.sensor.bit_depth == 8) {
             out.image8 = img8.view();

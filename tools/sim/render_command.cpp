@@ -210,13 +210,7 @@ bool renderOne(const World& w, const sim::ScenarioFrame& f, const std::string& o
     ground::Grey16Image img16(f.sensor.bit_depth == 8 ? 0 : width, f.sensor.bit_depth == 8 ? 0 : height);
     ground::FloatImage depth(width, height);
     ground::FloatImage range(width, height);
-    sim::FrameRequest request;
-    request.terrain = &w.terrain;
-    request.model = f.model;
-    request.pose = f.camera_pose;
-    request.lighting = w.scenario.lighting;
-    request.sensor = f.sensor;
-    request.frame_index = f.index;
+    const sim::FrameRequest request = sim::scenarioFrameRequest(w.scenario, w.terrain, f);
     sim::FrameOutput out;
     out.image8 = img8.empty() ? ImageView<std::uint8_t>() : img8.view();
     out.image16 = img16.empty() ? ImageView<std::uint16_t>() : img16.view();

@@ -98,13 +98,7 @@ public:
 private:
     Status render(int i, hal::FrameInfo& info, std::vector<std::uint8_t>& packed) {
         const sim::ScenarioFrame& f = frames_->frames[selected_.at(static_cast<std::size_t>(i))];
-        sim::FrameRequest request;
-        request.terrain = &terrain_;
-        request.model = f.model;
-        request.pose = f.camera_pose;
-        request.lighting = scenario_.lighting;
-        request.sensor = f.sensor;
-        request.frame_index = f.index;
+        const sim::FrameRequest request = sim::scenarioFrameRequest(scenario_, terrain_, f);
         const std::int32_t w = f.model.width_px;
         const std::int32_t h = f.model.height_px;
         const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);

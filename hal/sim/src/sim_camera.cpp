@@ -165,13 +165,7 @@ Status SimCamera::checkTimestamp(const sim::ScenarioFrame& frame, std::uint64_t&
 // Straight into the caller's buffer: the bytes sim::renderFrame writes for this frame.
 template <typename T>
 Status SimCamera::render(const sim::ScenarioFrame& frame, const ImageView<T>& out) const noexcept {
-    sim::FrameRequest request;
-    request.terrain = config_.terrain;
-    request.model = frame.model;
-    request.pose = frame.camera_pose;
-    request.lighting = config_.scenario->lighting;
-    request.sensor = frame.sensor;
-    request.frame_index = frame.index;
+    const sim::FrameRequest request = sim::scenarioFrameRequest(*config_.scenario, *config_.terrain, frame);
     sim::FrameOutput output;
     if constexpr (sizeof(T) == 1U) {
         output.image8 = out;

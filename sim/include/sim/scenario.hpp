@@ -194,6 +194,12 @@ struct ScenarioFrames {
 void applyOdometryErrors(const OdometryErrorModel& model, std::uint64_t seed, const VehiclePose* truth,
                          VehiclePose* odometry, std::int32_t count) noexcept;
 
+// The render request of one scenario frame (whole frame, default range): what every
+// consumer of a scenario (vtm-sim, hal/sim, the HIL receiver, tests) renders, so that they
+// all produce the same bits for the same frame.
+[[nodiscard]] FrameRequest scenarioFrameRequest(const Scenario& scenario, const Terrain& terrain,
+                                                const ScenarioFrame& frame) noexcept;
+
 // ---- Terrain ----------------------------------------------------------------------
 
 // Bytes an Arena needs to build the scenario's terrain (alignment included).

@@ -305,4 +305,16 @@ Status buildScenarioTerrain(const Scenario& scenario, Arena& arena, Terrain& ter
     return terrain.build(scenario.terrain, arena);
 }
 
+FrameRequest scenarioFrameRequest(const Scenario& scenario, const Terrain& terrain,
+                                  const ScenarioFrame& frame) noexcept {
+    FrameRequest request;
+    request.terrain = &terrain;
+    request.model = frame.model;
+    request.pose = frame.camera_pose;
+    request.lighting = scenario.lighting;
+    request.sensor = frame.sensor;
+    request.frame_index = frame.index;
+    return request;
+}
+
 }  // namespace vtm::sim
