@@ -2,14 +2,10 @@
 
 #include <cmath>
 
+#include "vtm/core/random.hpp"
+
 namespace vtm::sim::noise {
 namespace {
-
-std::uint64_t mix(std::uint64_t z) noexcept {
-    z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27U)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31U);
-}
 
 // Unit gradients at multiples of 22.5 degrees (correctly rounded literals).
 constexpr double kGradX[16] = {1.0, 0.9238795325112867, 0.7071067811865476, 0.3826834323650898,
@@ -26,7 +22,7 @@ double fade(double t) noexcept { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0
 // One finaliser over the key and both (odd-multiplied) lattice indices: enough mixing for
 // noise, and it is the inner loop of the terrain build.
 std::uint64_t corner(std::uint64_t key, std::int64_t ix, std::int64_t iy) noexcept {
-    return mix(key ^ (static_cast<std::uint64_t>(ix) * 0xD6E8FEB86659FD93ULL) ^
+    return mixBits64(key ^ (static_cast<std::uint64_t>(ix) * 0xD6E8FEB86659FD93ULL) ^
                (static_cast<std::uint64_t>(iy) * 0x9E3779B97F4A7C15ULL));
 }
 
@@ -43,10 +39,10 @@ double signedUnit(std::uint64_t h) noexcept {
 }  // namespace
 
 std::uint64_t hash(std::uint64_t seed, Stream stream, std::int64_t a, std::int64_t b) noexcept {
-    std::uint64_t h = mix(seed + 0x9E3779B97F4A7C15ULL);
-    h = mix(h ^ (static_cast<std::uint64_t>(stream) * 0xD1B54A32D192ED03ULL));
-    h = mix(h ^ static_cast<std::uint64_t>(a));
-    return mix(h ^ (static_cast<std::uint64_t>(b) * 0xA0761D6478BD642FULL));
+    std::uint64_t h = mixBits64(seed + 0x9E3779B97F4A7C15ULL);
+    h = mixBits64(h ^ (static_cast<std::uint64_t>(stream) * 0xD1B54A32D192ED03ULL));
+    h = mixBits64(h ^ static_cast<std::uint64_t>(a));
+    return mixBits64(h ^ (static_cast<std::uint64_t>(b) * 0xA0761D6478BD642FULL));
 }
 
 double gradient(std::uint64_t key, double x, double y) noexcept {

@@ -37,10 +37,7 @@ Product128 multiply64x64(std::uint64_t a, std::uint64_t b) noexcept {
 
 std::uint64_t splitMix64(std::uint64_t& state) noexcept {
     state += 0x9E3779B97F4A7C15ULL;
-    std::uint64_t z = state;
-    z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27U)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31U);
+    return mixBits64(state);
 }
 
 Random::Random(std::uint64_t seed) noexcept {

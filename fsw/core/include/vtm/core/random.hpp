@@ -18,6 +18,14 @@
 
 namespace vtm {
 
+// The splitmix64 output function (a bijective 64-bit mixer): also a hash of integer
+// keys (procedural noise in sim/terrain hashes lattice coordinates with it).
+[[nodiscard]] constexpr std::uint64_t mixBits64(std::uint64_t z) noexcept {
+    z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27U)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31U);
+}
+
 // One step of splitmix64 (Steele, Lea & Flood 2014, as in Vigna's splitmix64.c):
 // advances `state` by 0x9E3779B97F4A7C15 and returns a mixed 64-bit value.
 [[nodiscard]] std::uint64_t splitMix64(std::uint64_t& state) noexcept;
