@@ -1,8 +1,10 @@
-#include "pose_interpolation.hpp"
-
+// interpolatePose (hal/odometry.hpp): shared by every odometry driver (file, sim, link).
 #include <cmath>
+#include <cstdint>
 
-namespace vtm::hal::detail {
+#include "hal/odometry.hpp"
+
+namespace vtm::hal {
 namespace {
 
 // s is resolved to 2^-52, the spacing of doubles just below 1: finer steps would not
@@ -37,7 +39,6 @@ void halveAngle(double q[4]) noexcept {
     normalize(q);
 }
 
-}  // namespace
 
 void slerpBinary(const double q0[4], const double q1[4], std::uint64_t num, std::uint64_t den,
                  double out[4]) noexcept {
@@ -73,6 +74,8 @@ void slerpBinary(const double q0[4], const double q1[4], std::uint64_t num, std:
     normalize(out);
 }
 
+}  // namespace
+
 PoseEstimate interpolatePose(const PoseEstimate& a, const PoseEstimate& b, std::uint64_t t) noexcept {
     const std::uint64_t num = t - a.timestamp_ns;
     const std::uint64_t den = b.timestamp_ns - a.timestamp_ns;
@@ -89,4 +92,4 @@ PoseEstimate interpolatePose(const PoseEstimate& a, const PoseEstimate& b, std::
     return p;
 }
 
-}  // namespace vtm::hal::detail
+}  // namespace vtm::hal

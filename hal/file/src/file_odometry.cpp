@@ -1,6 +1,5 @@
 #include "hal/file/file_odometry.hpp"
 
-#include "pose_interpolation.hpp"
 #include "pose_log.hpp"
 #include "text_lines.hpp"
 
@@ -68,7 +67,7 @@ Status FileOdometry::poseAt(std::uint64_t timestamp_ns, PoseEstimate& out) noexc
         return Status(StatusCode::kNoData, "FileOdometry: time inside a log gap longer than max_interpolation_gap_ns",
                       static_cast<std::int64_t>(gap_ns < kMaxDetail ? gap_ns : kMaxDetail));
     }
-    const PoseEstimate p = detail::interpolatePose(poses_[lo], poses_[hi], timestamp_ns);
+    const PoseEstimate p = interpolatePose(poses_[lo], poses_[hi], timestamp_ns);
     VTM_RETURN_IF_ERROR(validatePose(p));
     out = p;
     return Status::ok();

@@ -44,4 +44,12 @@ protected:
 // quaternion norm within 1e-6 of 1, covariance diagonal non-negative.
 [[nodiscard]] Status validatePose(const PoseEstimate& pose) noexcept;
 
+// The pose at time t between two poses, a.timestamp_ns < t < b.timestamp_ns; the same
+// bits on every target (only + - * / and sqrt, no transcendental function):
+//  - position and covariance: a + s (b - a), s = (t - ta) / (tb - ta); a convex
+//    combination of two covariances stays symmetric and positive semi-definite;
+//  - attitude: slerp along the shorter arc, q = qa (qa* qb)^s, the power computed from
+//    the binary digits of s by repeated quaternion square roots.
+[[nodiscard]] PoseEstimate interpolatePose(const PoseEstimate& a, const PoseEstimate& b, std::uint64_t t) noexcept;
+
 }  // namespace vtm::hal

@@ -1,41 +1,7 @@
-#include <cmath>
-
 #include "hal/link/link_session.hpp"
+#include "hal/odometry.hpp"
 
 namespace vtm::hal::link {
-namespace {
-
-// Pose between a (f = 0) and b (f = 1): position and covariance linearly, attitude by
-// normalised linear interpolation on the shorter arc (square root only: same bits on
-// every target).
-PoseEstimate interpolate(const PoseEstimate& a, const PoseEstimate& b, std::uint64_t t_ns) noexcept {
-    const double f = static_cast<double>(t_ns - a.timestamp_ns) / static_cast<double>(b.timestamp_ns - a.timestamp_ns);
-    PoseEstimate out;
-    out.timestamp_ns = t_ns;
-    for (std::size_t i = 0U; i < 3U; ++i) {
-        out.position_m[i] = a.position_m[i] + f * (b.position_m[i] - a.position_m[i]);
-    }
-    double dot = 0.0;
-    for (std::size_t i = 0U; i < 4U; ++i) {
-        dot += a.attitude_wxyz[i] * b.attitude_wxyz[i];
-    }
-    const double sign = (dot < 0.0) ? -1.0 : 1.0;
-    double norm2 = 0.0;
-    for (std::size_t i = 0U; i < 4U; ++i) {
-        out.attitude_wxyz[i] = (1.0 - f) * a.attitude_wxyz[i] + f * sign * b.attitude_wxyz[i];
-        norm2 += out.attitude_wxyz[i] * out.attitude_wxyz[i];
-    }
-    const double inv = 1.0 / std::sqrt(norm2);
-    for (double& q : out.attitude_wxyz) {
-        q *= inv;
-    }
-    for (std::size_t i = 0U; i < 36U; ++i) {
-        out.covariance[i] = a.covariance[i] + f * (b.covariance[i] - a.covariance[i]);
-    }
-    return out;
-}
-
-}  // namespace
 
 Status LinkSession::lookUpPose(std::uint64_t timestamp_ns, PoseEstimate& out) const noexcept {
     if (!rejected_pose_status_.isOk() && rejected_pose_time_ns_ == timestamp_ns) {
@@ -62,7 +28,7 @@ Status LinkSession::lookUpPose(std::uint64_t timestamp_ns, PoseEstimate& out) co
                 return Status(StatusCode::kNoData, "link: poses around this time too far apart to interpolate",
                               static_cast<std::int64_t>(gap_ns));
             }
-            out = interpolate(before, p, timestamp_ns);
+            out = interpolatePose(before, p, timestamp_ns);
             return Status::ok();
         }
     }

@@ -22,31 +22,6 @@ void copyPose(const sim::VehiclePose& from, PoseEstimate& to) noexcept {
     }
 }
 
-// a + s (b - a) for position and covariance; attitude normalised-linear along the
-// shorter arc. Only + - * / sqrt: the same bits on every target.
-void interpolate(const sim::VehiclePose& a, const sim::VehiclePose& b, double s, PoseEstimate& out) noexcept {
-    for (int i = 0; i < 3; ++i) {
-        out.position_m[i] = a.position_m[i] + s * (b.position_m[i] - a.position_m[i]);
-    }
-    double dot = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        dot += a.attitude_wxyz[i] * b.attitude_wxyz[i];
-    }
-    const double sign = (dot < 0.0) ? -1.0 : 1.0;
-    double norm2 = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        out.attitude_wxyz[i] = a.attitude_wxyz[i] + s * (sign * b.attitude_wxyz[i] - a.attitude_wxyz[i]);
-        norm2 += out.attitude_wxyz[i] * out.attitude_wxyz[i];
-    }
-    const double norm = math::sqrt(norm2);
-    for (double& q : out.attitude_wxyz) {
-        q /= norm;
-    }
-    for (int i = 0; i < 36; ++i) {
-        out.covariance[i] = a.covariance[i] + s * (b.covariance[i] - a.covariance[i]);
-    }
-}
-
 }  // namespace
 
 Status SimOdometry::init(const Config& config) noexcept {
@@ -126,10 +101,11 @@ Status SimOdometry::poseAt(std::uint64_t timestamp_ns, PoseEstimate& out) {
         copyPose(pb, pose);
     } else {
         VTM_RETURN_IF_ERROR(checkSourceOrder(b - 1));
-        const sim::VehiclePose& pa = odometryPose(frames, sample_frame_[b - 1]);
-        const double s = static_cast<double>(timestamp_ns - pa.timestamp_ns) /
-                         static_cast<double>(pb.timestamp_ns - pa.timestamp_ns);
-        interpolate(pa, pb, s, pose);
+        PoseEstimate before;
+        PoseEstimate after;
+        copyPose(odometryPose(frames, sample_frame_[b - 1]), before);
+        copyPose(pb, after);
+        pose = interpolatePose(before, after, timestamp_ns);
     }
     pose.timestamp_ns = timestamp_ns;
     if (config_.faults != nullptr) {
