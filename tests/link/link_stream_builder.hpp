@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "hal/link/crc32.hpp"
+#include "vtm/core/crc32.hpp"
 #include "hal/link/protocol.hpp"
 
 namespace vtm::hal::link::test {

@@ -16,7 +16,6 @@
 #include <sstream>
 #include <thread>
 
-#include "hal/link/crc32.hpp"
 #include "hal/link/protocol.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "hal/link/crc32.hpp"
+#include "vtm/core/crc32.hpp"
 
 namespace vtm::hal::link {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "hal/link/crc32.hpp"
+#include "vtm/core/crc32.hpp"
 
 namespace vtm::hal::link {
 

@@ -10,22 +10,12 @@
 #include <utility>
 
 #include "file_bytes.hpp"
+#include "vtm/core/crc32.hpp"
 
 namespace vtm::ground {
 namespace {
 
 using detail::Bytes;
-
-std::uint32_t crc32(const unsigned char* data, std::size_t size, std::uint32_t crc = 0U) {
-    crc = ~crc;
-    for (std::size_t i = 0; i < size; ++i) {
-        crc ^= data[i];
-        for (int b = 0; b < 8; ++b) {
-            crc = (crc >> 1U) ^ (0xEDB88320U & (0U - (crc & 1U)));
-        }
-    }
-    return ~crc;
-}
 
 void putU32(Bytes& out, std::uint32_t v) {
     out.push_back(static_cast<unsigned char>(v >> 24U));
@@ -39,7 +29,7 @@ void putChunk(Bytes& png, const char* type, const Bytes& data) {
     Bytes body(type, type + 4);
     body.insert(body.end(), data.begin(), data.end());
     png.insert(png.end(), body.begin(), body.end());
-    putU32(png, crc32(body.data(), body.size()));
+    putU32(png, vtm::crc32(body.data(), body.size()));
 }
 
 // zlib stream (RFC 1950) of stored deflate blocks (RFC 1951 BTYPE 00), at most 65535 bytes each.

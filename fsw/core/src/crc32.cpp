@@ -1,8 +1,8 @@
-#include "hal/link/crc32.hpp"
+#include "vtm/core/crc32.hpp"
 
 #include <array>
 
-namespace vtm::hal::link {
+namespace vtm {
 namespace {
 
 constexpr std::uint32_t kPolynomialReflected = 0xEDB88320U;
@@ -35,4 +35,4 @@ std::uint32_t crc32(const std::uint8_t* bytes, std::size_t size) noexcept {
     return crc32Final(crc32Update(crc32Init(), bytes, size));
 }
 
-}  // namespace vtm::hal::link
+}  // namespace vtm
