@@ -255,4 +255,39 @@ Result<std::vector<SimCameraPose>> readCameraPoses(const std::string& path) {
     return Result<std::vector<SimCameraPose>>::success(poses);
 }
 
+Result<SimCameraPose> readCameraPoseSpec(const std::string& spec) {
+    std::string path = spec;
+    bool indexed = false;
+    std::uint64_t index = 0;
+    const std::size_t colon = spec.rfind(':');
+    if (colon != std::string::npos && colon + 1 < spec.size() &&
+        spec.find_first_not_of("0123456789", colon + 1) == std::string::npos) {
+        indexed = toU64(spec.substr(colon + 1), index);
+        if (indexed) path = spec.substr(0, colon);
+    }
+    auto poses = readCameraPoses(path);
+    if (!poses.ok) return Result<SimCameraPose>::failure(poses.error);
+    const SimCameraPose* chosen = nullptr;
+    if (!indexed) {
+        if (poses.value.size() != 1U) {
+            return Result<SimCameraPose>::failure(path + ": holds " + std::to_string(poses.value.size()) +
+                                                  " poses; name one as " + path + ":INDEX");
+        }
+        chosen = &poses.value.front();
+    } else {
+        for (const SimCameraPose& p : poses.value) {
+            if (p.frame_index == index) chosen = &p;
+        }
+        if (chosen == nullptr) {
+            return Result<SimCameraPose>::failure(path + ": no pose with frame index " + std::to_string(index));
+        }
+    }
+    const double* q = chosen->attitude_wxyz;
+    const double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+    if (!std::isfinite(n2) || std::fabs(n2 - 1.0) > 2e-6) {
+        return Result<SimCameraPose>::failure(spec + ": attitude is not a unit quaternion");
+    }
+    return Result<SimCameraPose>::success(*chosen);
+}
+
 }  // namespace vtm::ground

@@ -51,4 +51,10 @@ struct SimCameraPose {
 std::string formatCameraPoses(const std::vector<SimCameraPose>& poses);
 Result<std::vector<SimCameraPose>> readCameraPoses(const std::string& path);
 
+// One camera pose named on a command line (docs/cli-poses.md): "FILE" (a vtm-camera-poses 1
+// file with exactly one pose line) or "FILE:INDEX" (the line whose frame_index is INDEX,
+// e.g. frame 1 of vtm-sim's camera_poses.txt). The attitude must be a unit quaternion
+// within 1e-6 (numbers are finite: the reader refuses others); errors name the spec and the reason.
+Result<SimCameraPose> readCameraPoseSpec(const std::string& spec);
+
 }  // namespace vtm::ground
