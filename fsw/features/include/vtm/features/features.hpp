@@ -1,0 +1,5 @@
+// fsw/features: Förstner interest points and guided template matching (docs/features.md).
+#pragma once
+
+#include "vtm/features/forstner.hpp"
+#include "vtm/features/template_matcher.hpp"
