@@ -1,0 +1,45 @@
+// MotionConfig::validate: every field range-checked before a refinement starts.
+#include "vtm/core/math.hpp"
+#include "vtm/motion/motion_refiner.hpp"
+
+namespace vtm::motion {
+namespace {
+
+Status invalid(const char* reason, std::int64_t value) noexcept {
+    return Status(StatusCode::kInvalidConfig, reason, value);
+}
+
+// (0, 1000], NaN refused.
+bool inScale(double v) noexcept { return math::isFinite(v) && v > 0.0 && v <= 1000.0; }
+
+}  // namespace
+
+Status MotionConfig::validate() const noexcept {
+    if (max_iterations < 1 || max_iterations > kMaxMotionIterations) {
+        return invalid("max_iterations: must be 1..200", max_iterations);
+    }
+    if (kernel != RobustKernel::kNone && kernel != RobustKernel::kHuber && kernel != RobustKernel::kCauchy) {
+        return invalid("kernel: must be none, huber or cauchy", static_cast<std::int64_t>(kernel));
+    }
+    if (!inScale(robust_scale_px)) {
+        return invalid("robust_scale_px: must be in (0, 1000] px", 0);
+    }
+    if (!inScale(outlier_threshold_px)) {
+        return invalid("outlier_threshold_px: must be in (0, 1000] px", 0);
+    }
+    if (max_passes < 1 || max_passes > kMaxMotionPasses) {
+        return invalid("max_passes: must be 1..10", max_passes);
+    }
+    if (min_inliers < 6 || min_inliers > kMaxMotionMatches) {
+        return invalid("min_inliers: must be 6..1024 (5 motion parameters plus redundancy)", min_inliers);
+    }
+    if (!math::isFinite(range_min_m) || range_min_m <= 0.0) {
+        return invalid("range_min_m: must be finite and > 0 m", 0);
+    }
+    if (!math::isFinite(range_max_m) || range_max_m <= range_min_m || range_max_m > 1e7) {
+        return invalid("range_max_m: must be > range_min_m and <= 1e7 m", 0);
+    }
+    return Status::ok();
+}
+
+}  // namespace vtm::motion
