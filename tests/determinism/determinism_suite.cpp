@@ -9,7 +9,12 @@
 #include "sim/render.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/camera_model.hpp"
+#include "vtm/features/features.hpp"
+#include "vtm/motion/motion_refiner.hpp"
+#include "vtm/rectify/rectifier.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/terrain/height_map.hpp"
+#include "vtm/terrain/triangulation.hpp"
 
 namespace vtm::determinism {
 namespace {
@@ -280,6 +285,218 @@ std::uint64_t simSection() noexcept {
     return h.value();
 }
 
+// The wide-baseline front end and the terrain products on a small rendered rover pair
+// (160 x 120, 1 m apart, toed in): Förstner features, guided matching with the true pose,
+// motion refinement from a spoiled pose, rectification (tables and remapped images), and
+// triangulation of a synthetic disparity ramp into a height map.
+struct WidePair {
+    static constexpr std::int32_t kW = 160;
+    static constexpr std::int32_t kH = 120;
+    std::uint8_t a[kW * kH];
+    std::uint8_t b[kW * kH];
+    CameraModel model;
+    sim::CameraPose pose_a;
+    sim::CameraPose pose_b;
+};
+
+Status renderWidePair(WidePair& pair, Hasher& h) noexcept {
+    sim::TerrainParams params = sim::defaultMarsTerrainParams();
+    params.seed = 8U;
+    params.finest_cell_m = 0.02;
+    params.samples_log2 = 6;
+    params.levels = 7;
+    params.rock_region_radius_m = 10.0;
+    static std::byte pool[4U << 20U];
+    Arena arena(pool, sizeof pool);
+    static sim::Terrain terrain;
+    const Status built = terrain.build(params, arena);
+    if (!built.isOk()) {
+        return built;
+    }
+    const double ground = terrain.elevationAt(0.0, 0.0);
+    const Vec3 target(6.0, 0.0, -terrain.elevationAt(6.0, 0.0));
+    pair.pose_a = sim::poseLookingAt(Vec3(0.0, -0.5, -(ground + 1.9)), target);
+    pair.pose_b = sim::poseLookingAt(Vec3(0.0, 0.5, -(ground + 1.9)), target);
+    pair.model = makePinhole(WidePair::kW, WidePair::kH, 50.0);
+    sim::FrameRequest r;
+    r.terrain = &terrain;
+    r.model = pair.model;
+    sim::FrameOutput out;
+    for (std::int32_t k = 0; k < 2; ++k) {
+        r.pose = (k == 0) ? pair.pose_a : pair.pose_b;
+        r.frame_index = static_cast<std::uint32_t>(k);
+        out.image8 = ImageView<std::uint8_t>((k == 0) ? pair.a : pair.b, WidePair::kW, WidePair::kH);
+        h.addI64(static_cast<std::int64_t>(sim::renderFrame(r, out, nullptr).code()));
+    }
+    return Status::ok();
+}
+
+void hashMatches(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, features::MatchSet& matches,
+                 Hasher& h) noexcept {
+    features::DetectorConfig dc;
+    dc.max_width = WidePair::kW;
+    dc.max_height = WidePair::kH;
+    dc.grid_cols = 8;
+    dc.grid_rows = 6;
+    features::MatcherConfig mc;
+    mc.max_width = WidePair::kW;
+    mc.max_height = WidePair::kH;
+    mc.pyramid_levels = 1;
+    static std::byte pool[2U << 20U];
+    Arena arena(pool, sizeof pool);
+    static features::ForstnerDetector detector;
+    static features::TemplateMatcher matcher;
+    static features::FeatureSet fs;
+    h.addI64(static_cast<std::int64_t>(detector.init(dc, arena).code()));
+    h.addI64(static_cast<std::int64_t>(matcher.init(mc, arena).code()));
+    const ImageView<const std::uint8_t> a(pair.a, WidePair::kW, WidePair::kH);
+    const ImageView<const std::uint8_t> b(pair.b, WidePair::kW, WidePair::kH);
+    h.addI64(static_cast<std::int64_t>(detector.detect(a, fs).code()));
+    for (std::int32_t i = 0; i < fs.count; ++i) {
+        h.addDouble(fs.items[i].pixel.x());
+        h.addDouble(fs.items[i].pixel.y());
+        h.addFloat(fs.items[i].strength);
+    }
+    features::MatchPrediction p;
+    p.model_a = &pair.model;
+    p.model_b = &pair.model;
+    p.R_b_from_a = R_ba;
+    p.t_b_from_a_m = t_ba;
+    p.range_min_m = 1.0;
+    p.range_max_m = 200.0;
+    p.margin_px = 8.0;
+    h.addI64(static_cast<std::int64_t>(matcher.match(a, b, fs, p, matches).code()));
+    for (std::int32_t i = 0; i < matches.count; ++i) {
+        h.addDouble(matches.items[i].pixel_b.x());
+        h.addDouble(matches.items[i].pixel_b.y());
+        h.addFloat(matches.items[i].score);
+    }
+}
+
+void hashMotion(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, const features::MatchSet& matches,
+                Hasher& h) noexcept {
+    static Vec2 pa[features::kMaxFeatures];
+    static Vec2 pb[features::kMaxFeatures];
+    const auto n = static_cast<std::size_t>(matches.count);
+    for (std::size_t i = 0; i < n; ++i) {
+        pa[i] = matches.items[i].pixel_a;
+        pb[i] = matches.items[i].pixel_b;
+    }
+    // Odometry-like error: 1.5 deg about the camera's y axis, 5 % of the baseline sideways.
+    const Mat3 spoil = Quat(math::cos(0.0131), 0.0, math::sin(0.0131), 0.0).toRotationMatrix();
+    motion::MotionInput in;
+    in.model_a = &pair.model;
+    in.model_b = &pair.model;
+    in.R_b_from_a = spoil * R_ba;
+    in.t_b_from_a_m = t_ba + Vec3(0.0, 0.05 * t_ba.norm(), 0.0);
+    in.pixels_a = Span<const Vec2>(pa, n);
+    in.pixels_b = Span<const Vec2>(pb, n);
+    static motion::MotionRefiner refiner;
+    motion::MotionResult result;
+    h.addI64(static_cast<std::int64_t>(refiner.refine(in, motion::MotionConfig{}, result).code()));
+    for (std::int32_t i = 0; i < 9; ++i) {
+        h.addDouble(result.R_b_from_a(i / 3, i % 3));
+    }
+    for (std::int32_t i = 0; i < 3; ++i) {
+        h.addDouble(result.t_b_from_a_m[i]);
+    }
+    for (const double c : result.covariance) {
+        h.addDouble(c);
+    }
+    h.addI64(result.inliers);
+}
+
+void hashRectification(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, Hasher& h) noexcept {
+    rectify::RectifyConfig c;
+    c.max_width = WidePair::kW;
+    c.max_height = WidePair::kH;
+    static std::byte pool[1U << 20U];
+    Arena arena(pool, sizeof pool);
+    static rectify::Rectifier rectifier;
+    h.addI64(static_cast<std::int64_t>(rectifier.init(c, arena).code()));
+    rectify::RectifyInput in;
+    in.model_a = &pair.model;
+    in.model_b = &pair.model;
+    in.R_b_from_a = R_ba;
+    in.t_b_from_a_m = t_ba;
+    static rectify::RectifiedPair rp;
+    h.addI64(static_cast<std::int64_t>(rectifier.compute(in, rp).code()));
+    h.addDouble(rp.model_a.fx_px);
+    h.addDouble(rp.model_a.cx_px);
+    h.addDouble(rp.model_b.cx_px);
+    h.addI64(rp.d_min);
+    h.addI64(rp.d_max);
+    static std::uint8_t out[WidePair::kW * WidePair::kH];
+    const ImageView<std::uint8_t> view(out, rp.model_a.width_px, rp.model_a.height_px);
+    for (const rectify::Rectifier::Side side : {rectify::Rectifier::Side::kA, rectify::Rectifier::Side::kB}) {
+        const std::uint8_t* src = (side == rectify::Rectifier::Side::kA) ? pair.a : pair.b;
+        h.addI64(static_cast<std::int64_t>(
+            rectifier.remap(side, ImageView<const std::uint8_t>(src, WidePair::kW, WidePair::kH), view).code()));
+        for (std::int32_t i = 0; i < WidePair::kW * WidePair::kH; ++i) {
+            h.addI64(out[i]);
+        }
+    }
+}
+
+void hashTerrain(Hasher& h) noexcept {
+    terrain::RectifiedGeometry g;
+    g.fx_px = 150.0;
+    g.fy_px = 150.0;
+    g.cx_left_px = 80.0;
+    g.cx_right_px = 70.5;
+    g.cy_px = 60.0;
+    g.baseline_m = 2.0;
+    g.R_site_from_rect = Quat(0.70710678118654752, 0.0, 0.0, 0.70710678118654752).toRotationMatrix();
+    static std::int16_t disparity[64 * 48];
+    for (std::int32_t y = 0; y < 48; ++y) {
+        for (std::int32_t x = 0; x < 64; ++x) {
+            disparity[y * 64 + x] = static_cast<std::int16_t>(16 * 12 + 7 * y + (x % 5));
+        }
+    }
+    static terrain::TerrainPoint points[64 * 48];
+    terrain::TriangulationStats stats;
+    h.addI64(static_cast<std::int64_t>(terrain::triangulate(g, terrain::TriangulationLimits{},
+                                                            ImageView<const std::int16_t>(disparity, 64, 48), {},
+                                                            Span<terrain::TerrainPoint>(points, 64 * 48), stats)
+                                           .code()));
+    terrain::GridConfig grid;
+    grid.origin_north_m = -20.0;
+    grid.origin_east_m = -20.0;
+    grid.cell_m = 0.5;
+    grid.cols = 80;
+    grid.rows = 80;
+    static std::byte pool[80U * 80U * 10U + 256U];
+    Arena arena(pool, sizeof pool);
+    static terrain::HeightMap map;
+    h.addI64(static_cast<std::int64_t>(map.init(grid, arena).code()));
+    h.addI64(static_cast<std::int64_t>(
+        map.add(Span<const terrain::TerrainPoint>(points, static_cast<std::size_t>(stats.points))).code()));
+    for (std::int32_t r = 0; r < grid.rows; ++r) {
+        for (std::int32_t c = 0; c < grid.cols; ++c) {
+            h.addFloat(map.highest(c, r));
+            h.addI64(map.count(c, r));
+        }
+    }
+}
+
+std::uint64_t wideBaselineSection() noexcept {
+    Hasher h;
+    static WidePair pair;
+    const Status rendered = renderWidePair(pair, h);
+    h.addI64(static_cast<std::int64_t>(rendered.code()));
+    if (rendered.isOk()) {
+        // Relative pose X_b = R X_a + t of the two camera frames.
+        const Mat3 R_ba = pair.pose_b.R_site_from_ref.transpose() * pair.pose_a.R_site_from_ref;
+        const Vec3 t_ba = pair.pose_b.R_site_from_ref.transpose() * (pair.pose_a.position_site_m - pair.pose_b.position_site_m);
+        static features::MatchSet matches;
+        hashMatches(pair, R_ba, t_ba, matches, h);
+        hashMotion(pair, R_ba, t_ba, matches, h);
+        hashRectification(pair, R_ba, t_ba, h);
+    }
+    hashTerrain(h);
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -291,6 +508,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kFmaSensitive: return "fma_sensitive";
         case Section::kStereo: return "stereo";
         case Section::kSim: return "sim";
+        case Section::kWideBaseline: return "wide_baseline";
     }
     return "unknown";
 }
@@ -304,6 +522,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kFmaSensitive: return fmaSensitiveSection();
         case Section::kStereo: return stereoSection();
         case Section::kSim: return simSection();
+        case Section::kWideBaseline: return wideBaselineSection();
     }
     return 0U;
 }

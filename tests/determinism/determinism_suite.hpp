@@ -9,7 +9,9 @@
 //     fused multiply-add by the compiler changes these bits;
 //   - the ML dense stereo module on a generated pair (disparity, sigma, reason);
 //   - the simulated world: a small Mars terrain and a rendered frame (pinhole and
-//     CAHVOR, noise and shadows on), its range truth and a rectified pair's disparity.
+//     CAHVOR, noise and shadows on), its range truth and a rectified pair's disparity;
+//   - the wide-baseline front end on a small rendered rover pair (features, matches,
+//     refined motion, rectification tables and images) and triangulation into a height map.
 #pragma once
 
 #include <cstdint>
@@ -24,8 +26,9 @@ enum class Section : std::uint8_t {
     kFmaSensitive = 4,
     kStereo = 5,
     kSim = 6,
+    kWideBaseline = 7,
 };
-constexpr int kSectionCount = 7;
+constexpr int kSectionCount = 8;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;
