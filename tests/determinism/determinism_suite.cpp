@@ -9,6 +9,7 @@
 #include "sim/render.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/camera_model.hpp"
+#include "vtm/descent/plane_sweep.hpp"
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
@@ -497,6 +498,73 @@ std::uint64_t wideBaselineSection() noexcept {
     return h.value();
 }
 
+// The descent plane sweep on a rendered 12-bit nadir pair (96 x 96, 60 m and 48 m above a
+// small terrain, drifting sideways): depth, score and reason of every pixel.
+std::uint64_t descentSection() noexcept {
+    constexpr std::int32_t kD = 96;
+    sim::TerrainParams params = sim::defaultMarsTerrainParams();
+    params.seed = 12U;
+    params.finest_cell_m = 0.05;
+    params.samples_log2 = 6;
+    params.levels = 7;
+    params.rock_region_radius_m = 10.0;
+    static std::byte pool[4U << 20U];
+    Arena arena(pool, sizeof pool);
+    static sim::Terrain terrain;
+    Hasher h;
+    const Status built = terrain.build(params, arena);
+    h.addI64(static_cast<std::int64_t>(built.code()));
+    if (!built.isOk()) {
+        return h.value();
+    }
+    static std::uint16_t images[2][kD * kD];
+    descent::PairGeometry g;
+    g.camera = makePinhole(kD, kD, 40.0);
+    const double ground = terrain.elevationAt(0.0, 0.0);
+    const double altitude[2] = {60.0, 48.0};
+    for (std::int32_t k = 0; k < 2; ++k) {
+        sim::FrameRequest r;
+        r.terrain = &terrain;
+        r.model = g.camera;
+        r.sensor.bit_depth = 12;
+        const Vec3 eye(0.5 * k, 0.3 * k, -(ground + altitude[k]));
+        r.pose = sim::poseLookingAt(eye, eye + Vec3(0.0, 0.0, 100.0));
+        r.frame_index = static_cast<std::uint32_t>(k);
+        sim::FrameOutput out;
+        out.image16 = ImageView<std::uint16_t>(images[k], kD, kD);
+        h.addI64(static_cast<std::int64_t>(sim::renderFrame(r, out, nullptr).code()));
+        descent::CameraPose& p = (k == 0) ? g.pose1 : g.pose2;
+        p.R_site_from_cam = r.pose.R_site_from_ref;
+        p.position_site_m = r.pose.position_site_m;
+    }
+    descent::Config c;
+    c.max_width = kD;
+    c.max_height = kD;
+    c.planes = 24;
+    c.depth_min_m = 50.0;
+    c.depth_max_m = 70.0;
+    c.min_parallax_px = 1.0;
+    c.band_rows = 20;
+    static std::byte sweep_pool[1U << 20U];
+    Arena sweep_arena(sweep_pool, sizeof sweep_pool);
+    static descent::PlaneSweep sweep;
+    h.addI64(static_cast<std::int64_t>(sweep.init(c, sweep_arena).code()));
+    static float depth[kD * kD];
+    static float score[kD * kD];
+    static std::uint8_t reason[kD * kD];
+    const descent::SweepOutput out{ImageView<float>(depth, kD, kD), ImageView<float>(score, kD, kD),
+                                   ImageView<std::uint8_t>(reason, kD, kD)};
+    h.addI64(static_cast<std::int64_t>(sweep.compute(ImageView<const std::uint16_t>(images[0], kD, kD),
+                                                     ImageView<const std::uint16_t>(images[1], kD, kD), g, out)
+                                           .code()));
+    for (std::int32_t i = 0; i < kD * kD; ++i) {
+        h.addFloat(depth[i]);
+        h.addFloat(score[i]);
+        h.addI64(reason[i]);
+    }
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -509,6 +577,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kStereo: return "stereo";
         case Section::kSim: return "sim";
         case Section::kWideBaseline: return "wide_baseline";
+        case Section::kDescent: return "descent";
     }
     return "unknown";
 }
@@ -523,6 +592,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kStereo: return stereoSection();
         case Section::kSim: return simSection();
         case Section::kWideBaseline: return wideBaselineSection();
+        case Section::kDescent: return descentSection();
     }
     return 0U;
 }

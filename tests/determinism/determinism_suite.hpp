@@ -11,7 +11,8 @@
 //   - the simulated world: a small Mars terrain and a rendered frame (pinhole and
 //     CAHVOR, noise and shadows on), its range truth and a rectified pair's disparity;
 //   - the wide-baseline front end on a small rendered rover pair (features, matches,
-//     refined motion, rectification tables and images) and triangulation into a height map.
+//     refined motion, rectification tables and images) and triangulation into a height map;
+//   - the descent plane sweep on a rendered 12-bit nadir pair (depth, score, reason).
 #pragma once
 
 #include <cstdint>
@@ -27,8 +28,9 @@ enum class Section : std::uint8_t {
     kStereo = 5,
     kSim = 6,
     kWideBaseline = 7,
+    kDescent = 8,
 };
-constexpr int kSectionCount = 8;
+constexpr int kSectionCount = 9;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;

@@ -3,6 +3,7 @@
 //   vtm version    version only
 //   vtm budget     the static memory budget of the flight build
 //   vtm stereo     dense disparity of a rectified pair (stereo_command.hpp)
+//   vtm descent    elevation map from two descent images (descent_command.hpp)
 //   vtm eval       accuracy of a disparity map against ground truth (eval_command.hpp)
 // docs/tools.md describes the commands, the file formats and the exit codes.
 #include <CLI/CLI.hpp>
@@ -14,6 +15,7 @@
 #include "exit_codes.hpp"
 #include "memory_budget.hpp"
 #include "stereo_command.hpp"
+#include "descent_command.hpp"
 
 namespace {
 
@@ -60,6 +62,8 @@ int main(int argc, char** argv) {
     CLI::App* budget = app.add_subcommand("budget", "print the static memory budget of the flight build");
     vtm::tools::StereoOptions stereo_options;
     CLI::App* stereo = vtm::tools::addStereoCommand(app, stereo_options);
+    vtm::tools::DescentOptions descent_options;
+    CLI::App* descent = vtm::tools::addDescentCommand(app, descent_options);
     vtm::tools::EvalOptions eval_options;
     CLI::App* eval = vtm::tools::addEvalCommand(app, eval_options);
     // Usage errors in one line, like every other vtm error.
@@ -82,6 +86,9 @@ int main(int argc, char** argv) {
     }
     if (stereo->parsed()) {
         return vtm::tools::runStereo(stereo_options);
+    }
+    if (descent->parsed()) {
+        return vtm::tools::runDescent(descent_options);
     }
     if (eval->parsed()) {
         return vtm::tools::runEval(eval_options);

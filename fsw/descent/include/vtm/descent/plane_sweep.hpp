@@ -1,0 +1,205 @@
+// Descent plane sweep (Xiong, Olson, Matthies; paper §4), as a flight module.
+//
+// Two nadir images of a descending lander: image 1 (earlier, higher) is the reference,
+// image 2 (later, closer) is warped onto it. With the relative pose X2 = R X1 + t of the
+// two camera frames, every virtual plane n . X1 = z_k perpendicular to camera 1's optical
+// axis (n = +z of camera 1) induces the homography from image 1 to image 2
+//     H_k = K (R + t n^T / z_k) K^-1
+// (a point on the plane has n . X1 / z_k = 1, so X2 = R X1 + t (n . X1) / z_k; papers
+// that write "R - t n^T / d" use the plane n . X + d = 0). The planes are uniform in
+// inverse depth between depth_min_m and depth_max_m. For each plane, image 2 — low-passed
+// once per pair to the scale the homographies imply, because it is the closer image —
+// is sampled bilinearly at H_k p for every pixel p of image 1, and a box-filtered window
+// score (SAD or normalised correlation) compares it with image 1. Each pixel keeps its
+// best plane; a parabola through the neighbouring planes' scores refines it in inverse
+// depth. Pixels whose parallax over the whole depth range is below min_parallax_px (near
+// the focus of expansion) are flagged, as are pixels whose window leaves either image.
+//
+// Memory: the prefiltered image 2 (max_width * max_height, 16 bit) plus buffers for one
+// band of band_rows rows of image 1; workspaceBytes(config) from an Arena at init();
+// compute() never allocates. Deterministic: integer window sums, double geometry with
+// + - * / only, the prefilter's weights quantised at run start; bit-identical on every
+// target. docs/descent.md has the method, the memory formula and the measured accuracy.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "vtm/core/arena.hpp"
+#include "vtm/core/camera_model.hpp"
+#include "vtm/core/eigen.hpp"
+#include "vtm/core/image.hpp"
+#include "vtm/core/span.hpp"
+#include "vtm/core/status.hpp"
+
+namespace vtm::descent {
+
+// Largest grey level accepted: 12-bit sensors (8-bit images are accepted as they are).
+constexpr std::uint16_t kMaxGreyLevel = 4095U;
+constexpr std::int32_t kMaxPlanes = 256;
+// Largest prefilter radius (taps each side): enough for a scale change of about 8.
+constexpr std::int32_t kMaxPrefilterRadius = 8;
+
+// Window score.
+enum class Score : std::uint8_t {
+    kSad = 0,  // mean absolute grey-level difference over the window (cost, lower is better)
+    kNcc = 1,  // normalised cross-correlation; the cost kept is 1 - ncc (0 .. 2)
+};
+
+// Why a pixel has no depth (kValid when it has one). Values are stable (telemetry).
+enum class Reason : std::uint8_t {
+    kValid = 0,
+    kBorder = 1,        // the window leaves image 1
+    kOutOfView = 2,     // the window leaves image 2 for some plane of the range
+    kLowParallax = 3,   // parallax over the depth range below min_parallax_px (focus of expansion)
+    kOutOfRange = 4,    // best plane is the first or the last one
+    kNoTexture = 5,     // flat score (no curvature at the best plane, or zero variance for NCC)
+};
+constexpr std::int32_t kReasonCount = 6;
+
+struct Config {
+    // Capacity, pixels. The prefiltered image 2 takes 2 * max_width * max_height bytes.
+    std::int32_t max_width = 1024;   // 16..4096
+    std::int32_t max_height = 1024;  // 16..4096
+    std::int32_t planes = 64;        // 3..kMaxPlanes
+    // Depth range along camera 1's optical axis, metres: 0 < depth_min_m < depth_max_m.
+    double depth_min_m = 1500.0;
+    double depth_max_m = 2500.0;
+    std::int32_t window = 7;         // window side, odd, 3..31 px
+    Score score = Score::kNcc;  // NCC: insensitive to the exposure and gain changes between frames
+    // Pixels whose image-2 positions for depth_min_m and depth_max_m are closer than this
+    // (image-2 pixels) are kLowParallax. 0..1000.
+    double min_parallax_px = 8.0;
+    // Rows of image 1 processed together: memory grows with band_rows, per-band overhead
+    // (window - 1 extra rows warped per plane) shrinks. 1..max_height.
+    std::int32_t band_rows = 32;
+
+    // kOk, or kInvalidConfig naming the field (value in detail; 0 for non-integers).
+    [[nodiscard]] Status validate() const noexcept;
+};
+
+// Where each camera was: its reference (optical) frame in the site frame
+// (x north, y east, z down): p_site = R_site_from_cam * p_cam + position_site_m.
+struct CameraPose {
+    Mat3 R_site_from_cam = Mat3::Identity();
+    Vec3 position_site_m = Vec3::Zero();
+};
+
+// The pair's geometry: one camera (both images) and the two poses.
+struct PairGeometry {
+    // An undistorted pinhole (kPinholeBrown, k1 = k2 = k3 = p1 = p2 = 0) whose size is the
+    // images' size. Distorted and CAHV(OR) models are kUnsupported: undistort first.
+    CameraModel camera{};
+    CameraPose pose1{};  // image 1 (reference, earlier and higher)
+    CameraPose pose2{};  // image 2 (later, closer)
+};
+
+// Caller-provided outputs, image 1's size (score and reason may be empty views).
+struct SweepOutput {
+    ImageView<float> depth_m;       // along camera 1's optical axis; NaN where reason != kValid
+    ImageView<float> score;         // best plane's cost (SAD: grey levels; NCC: 1 - ncc); NaN if none
+    ImageView<std::uint8_t> reason; // Reason
+};
+
+struct SweepStats {
+    std::int32_t valid_pixels = 0;
+    std::int32_t reason_counts[kReasonCount] = {};
+    // Scale of image 2 relative to image 1 at the image centre (middle plane), and the
+    // Gaussian sigma (image-2 pixels) of the anti-alias prefilter it gave.
+    double scale = 0.0;
+    double prefilter_sigma_px = 0.0;
+};
+
+class PlaneSweep {
+public:
+    // Bytes of arena for this configuration (every buffer and its padding), 0 if invalid.
+    [[nodiscard]] static std::size_t workspaceBytes(const Config& config) noexcept;
+
+    // Validates the config and carves the workspace. kInvalidConfig, kOutOfMemory.
+    [[nodiscard]] Status init(const Config& config, Arena& arena) noexcept;
+
+    // Depth of every pixel of image 1. Images: grey levels 0..kMaxGreyLevel, same size,
+    // within capacity. kNotInitialized; kInvalidArgument (empty view, a grey level above
+    // 4095, a pose that is not a rotation or not finite, camera 2 at camera 1's
+    // position); kUnsupported (camera not an undistorted pinhole); kSizeMismatch (images
+    // or outputs of other sizes, camera size differs); kDegenerate (a plane of the range
+    // passes behind camera 2). Never allocates.
+    [[nodiscard]] Status compute(const ImageView<const std::uint16_t>& image1,
+                                 const ImageView<const std::uint16_t>& image2, const PairGeometry& geometry,
+                                 const SweepOutput& out, SweepStats* stats = nullptr) noexcept;
+
+    // Image 2 after the anti-alias prefilter of the last compute(), grey levels x 16
+    // (4 fractional bits): for peer comparisons. Empty before the first compute().
+    [[nodiscard]] ImageView<const std::uint16_t> prefilteredImage2() const noexcept;
+    // Homography of plane k (image 1 pixel -> image 2 pixel, homogeneous) and its depth,
+    // as used by the last compute(). 0 <= k < planes.
+    [[nodiscard]] Mat3 homography(std::int32_t k) const noexcept;
+    [[nodiscard]] double planeDepth(std::int32_t k) const noexcept;
+
+    [[nodiscard]] const Config& config() const noexcept { return config_; }
+
+private:
+    [[nodiscard]] Status prepare(const ImageView<const std::uint16_t>& image1,
+                                 const ImageView<const std::uint16_t>& image2, const PairGeometry& geometry,
+                                 const SweepOutput& out) noexcept;
+    void prefilter(const ImageView<const std::uint16_t>& image2, double sigma_px) noexcept;
+    void sweepBand(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept;
+    void warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows) noexcept;
+    void scorePlane(const ImageView<const std::uint16_t>& image1, std::int32_t k, std::int32_t y0,
+                    std::int32_t y1) noexcept;
+    void scoreRow(std::int32_t k, std::int32_t bandRow) noexcept;
+    void imageSums(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept;
+    void markRow(std::int32_t y, const SweepOutput& out, SweepStats& stats) noexcept;
+    void decideBand(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1,
+                    const SweepOutput& out, SweepStats& stats) noexcept;
+
+    double scale_ = 0.0;           // prepare(): image-2 scale at the centre (SweepStats::scale)
+    double prefilterSigma_ = 0.0;  // prepare(): anti-alias sigma (SweepStats::prefilter_sigma_px)
+    Config config_{};
+    bool initialized_ = false;
+    std::int32_t width_ = 0;
+    std::int32_t height_ = 0;
+    std::int32_t radius_ = 0;
+    Span<double> homographies_{};  // planes * 9, row-major
+    Span<double> inverseDepth_{};  // planes, 1 / z_k (k = 0: depth_max_m)
+    Span<std::uint16_t> image2_{}; // prefiltered image 2, grey x 16, width_ * height_ packed
+    Span<std::int32_t> filterRow_{};   // prefilter: one row of the vertical pass
+    Span<std::uint16_t> warped_{};     // (band_rows + window - 1) rows of warped image 2
+    Span<std::uint8_t> inside_{};      // same layout: 1 where the sample lies inside image 2
+    Span<std::int32_t> colA_{};        // column sums: SAD, or sum of w (NCC)
+    Span<std::int64_t> colB_{};        // NCC: sum of w^2
+    Span<std::int64_t> colC_{};        // NCC: sum of i * w
+    Span<std::int32_t> colIn_{};       // samples inside image 2
+    Span<std::int32_t> sumI_{};        // NCC: window sums of image 1 (band)
+    Span<std::int64_t> sumII_{};       // NCC: window sums of image 1 squared (band)
+    Span<float> bestCost_{};           // per band pixel
+    Span<float> prevCost_{};           // cost at the previous plane
+    Span<float> belowCost_{};          // cost at best - 1
+    Span<float> aboveCost_{};          // cost at best + 1
+    Span<std::int16_t> bestIndex_{};   // -1: none yet
+};
+
+// ---- Elevation grid --------------------------------------------------------------------
+
+// A site-frame grid: cell (col, row) covers north in (origin_north_m - (row + 1) cell_m,
+// origin_north_m - row cell_m] and east in [origin_east_m + col cell_m, ... + (col + 1) cell_m)
+// — row 0 is the northern edge, so the grid displays north up, east right.
+struct GridSpec {
+    double origin_north_m = 0.0;  // north edge
+    double origin_east_m = 0.0;   // west edge
+    double cell_m = 1.0;          // > 0
+};
+
+// Elevation (-z, metres) of every valid depth pixel, binned into the grid: each cell holds
+// the MEAN elevation of the points that fall in it (count_out: how many; 0 = NO_DATA,
+// elevation NaN). Pixels with NaN depth are skipped; points outside the grid are counted
+// in *outside (may be null). elevation_out and count_out: same size. Errors:
+// kInvalidArgument (empty views, cell_m <= 0 or not finite, bad pose), kUnsupported
+// (camera not an undistorted pinhole), kSizeMismatch (depth size != camera size, grid
+// views of different sizes). Never allocates.
+[[nodiscard]] Status elevationGrid(const ImageView<const float>& depth_m, const CameraModel& camera,
+                                   const CameraPose& pose, const GridSpec& grid,
+                                   const ImageView<float>& elevation_out, const ImageView<std::uint16_t>& count_out,
+                                   std::int64_t* outside = nullptr) noexcept;
+
+}  // namespace vtm::descent

@@ -1,0 +1,130 @@
+// Configuration checks, the workspace formula and init() of the plane sweep.
+#include "vtm/descent/plane_sweep.hpp"
+
+#include <cmath>
+
+namespace vtm::descent {
+namespace {
+
+Status invalid(const char* reason, std::int64_t value) noexcept {
+    return Status(StatusCode::kInvalidConfig, reason, value);
+}
+
+bool finite(double v) noexcept { return std::isfinite(v); }
+
+// Element counts of every workspace buffer, in the order init() carves them.
+struct Sizes {
+    std::size_t planes;   // homographies: 9 doubles each; inverse depths: 1 double each
+    std::size_t image;    // prefiltered image 2
+    std::size_t width;    // one row
+    std::size_t warped;   // (band_rows + window - 1) rows
+    std::size_t band;     // band_rows rows
+};
+
+Sizes sizesOf(const Config& c) noexcept {
+    const auto w = static_cast<std::size_t>(c.max_width);
+    Sizes s{};
+    s.planes = static_cast<std::size_t>(c.planes);
+    s.image = w * static_cast<std::size_t>(c.max_height);
+    s.width = w;
+    s.warped = w * static_cast<std::size_t>(c.band_rows + c.window - 1);
+    s.band = w * static_cast<std::size_t>(c.band_rows);
+    return s;
+}
+
+template <typename T>
+std::size_t bytesOf(std::size_t count) noexcept {
+    const std::size_t align = alignof(T) > Arena::kDefaultAlignment ? alignof(T) : Arena::kDefaultAlignment;
+    return Arena::blockBytes(count * sizeof(T), align);
+}
+
+}  // namespace
+
+Status Config::validate() const noexcept {
+    if (max_width < 16 || max_width > 4096) {
+        return invalid("max_width: must be 16..4096 px", max_width);
+    }
+    if (max_height < 16 || max_height > 4096) {
+        return invalid("max_height: must be 16..4096 px", max_height);
+    }
+    if (planes < 3 || planes > kMaxPlanes) {
+        return invalid("planes: must be 3..256", planes);
+    }
+    if (!finite(depth_min_m) || !(depth_min_m > 0.0) || depth_min_m > 1.0e7) {
+        return invalid("depth_min_m: must be a finite number > 0 (metres, at most 1e7)", 0);
+    }
+    if (!finite(depth_max_m) || !(depth_max_m > depth_min_m) || depth_max_m > 1.0e7) {
+        return invalid("depth_max_m: must be finite and > depth_min_m (metres, at most 1e7)", 0);
+    }
+    if (window < 3 || window > 31 || (window % 2) != 1) {
+        return invalid("window: must be odd, 3..31 px", window);
+    }
+    if (window > max_width || window > max_height) {
+        return invalid("window: larger than max_width or max_height", window);
+    }
+    if (score != Score::kSad && score != Score::kNcc) {
+        return invalid("score: unknown value (kSad or kNcc)", static_cast<std::int64_t>(score));
+    }
+    if (!finite(min_parallax_px) || min_parallax_px < 0.0 || min_parallax_px > 1000.0) {
+        return invalid("min_parallax_px: must be 0..1000 (image-2 pixels)", 0);
+    }
+    if (band_rows < 1 || band_rows > max_height) {
+        return invalid("band_rows: must be 1..max_height", band_rows);
+    }
+    return Status::ok();
+}
+
+std::size_t PlaneSweep::workspaceBytes(const Config& config) noexcept {
+    if (!config.validate().isOk()) {
+        return 0U;
+    }
+    const Sizes s = sizesOf(config);
+    // Term by term, in the order init() carves them; bytesOf adds worst-case padding.
+    return bytesOf<double>(9U * s.planes) + bytesOf<double>(s.planes)    // homographies, 1/z
+           + bytesOf<std::uint16_t>(s.image)                              // prefiltered image 2
+           + bytesOf<std::int32_t>(s.width)                               // prefilter row
+           + bytesOf<std::uint16_t>(s.warped) + bytesOf<std::uint8_t>(s.warped)  // warped band, inside flags
+           + bytesOf<std::int32_t>(s.width) + 2U * bytesOf<std::int64_t>(s.width)  // column sums A, B, C
+           + bytesOf<std::int32_t>(s.width)                               // column inside counts
+           + bytesOf<std::int32_t>(s.band) + bytesOf<std::int64_t>(s.band)  // image-1 window sums (NCC)
+           + 4U * bytesOf<float>(s.band)                                  // best, previous, below, above cost
+           + bytesOf<std::int16_t>(s.band);                               // best plane
+}
+
+Status PlaneSweep::init(const Config& config, Arena& arena) noexcept {
+    initialized_ = false;
+    VTM_RETURN_IF_ERROR(config.validate());
+    const Sizes s = sizesOf(config);
+    homographies_ = arena.allocateArray<double>(9U * s.planes);
+    inverseDepth_ = arena.allocateArray<double>(s.planes);
+    image2_ = arena.allocateArray<std::uint16_t>(s.image);
+    filterRow_ = arena.allocateArray<std::int32_t>(s.width);
+    warped_ = arena.allocateArray<std::uint16_t>(s.warped);
+    inside_ = arena.allocateArray<std::uint8_t>(s.warped);
+    colA_ = arena.allocateArray<std::int32_t>(s.width);
+    colB_ = arena.allocateArray<std::int64_t>(s.width);
+    colC_ = arena.allocateArray<std::int64_t>(s.width);
+    colIn_ = arena.allocateArray<std::int32_t>(s.width);
+    sumI_ = arena.allocateArray<std::int32_t>(s.band);
+    sumII_ = arena.allocateArray<std::int64_t>(s.band);
+    bestCost_ = arena.allocateArray<float>(s.band);
+    prevCost_ = arena.allocateArray<float>(s.band);
+    belowCost_ = arena.allocateArray<float>(s.band);
+    aboveCost_ = arena.allocateArray<float>(s.band);
+    bestIndex_ = arena.allocateArray<std::int16_t>(s.band);
+    if (bestIndex_.empty() || aboveCost_.empty() || belowCost_.empty() || prevCost_.empty() ||
+        bestCost_.empty() || sumII_.empty() || sumI_.empty() || colIn_.empty() || colC_.empty() ||
+        colB_.empty() || colA_.empty() || inside_.empty() || warped_.empty() || filterRow_.empty() ||
+        image2_.empty() || inverseDepth_.empty() || homographies_.empty()) {
+        return Status(StatusCode::kOutOfMemory, "PlaneSweep::init: arena smaller than workspaceBytes(config)",
+                      static_cast<std::int64_t>(workspaceBytes(config)));
+    }
+    config_ = config;
+    radius_ = config.window / 2;
+    width_ = 0;
+    height_ = 0;
+    initialized_ = true;
+    return Status::ok();
+}
+
+}  // namespace vtm::descent

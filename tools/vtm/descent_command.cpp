@@ -1,0 +1,236 @@
+#include "descent_command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <vector>
+
+#include "exit_codes.hpp"
+#include "vtm/core/arena.hpp"
+#include "vtm/descent/plane_sweep.hpp"
+#include "vtm/ground/camera_model_io.hpp"
+#include "vtm/ground/disparity_colormap.hpp"
+#include "vtm/ground/image_io.hpp"
+#include "vtm/ground/pfm.hpp"
+#include "vtm/ground/sim_output.hpp"
+
+namespace vtm::tools {
+namespace {
+
+using ground::FloatImage;
+using ground::Grey16Image;
+
+constexpr std::int32_t kMaxGridCells = 4096;  // per side
+
+int fail(int code, const std::string& message) {
+    std::fprintf(stderr, "vtm descent: %s\n", message.c_str());
+    return code;
+}
+
+descent::CameraPose toPose(const ground::SimCameraPose& p) {
+    const Quat q(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
+    descent::CameraPose c;
+    c.R_site_from_cam = q.normalized().toRotationMatrix();
+    c.position_site_m = Vec3(p.position_m[0], p.position_m[1], p.position_m[2]);
+    return c;
+}
+
+struct Inputs {
+    Grey16Image image1;
+    Grey16Image image2;
+    descent::PairGeometry geometry;
+    descent::Config config;
+};
+
+// "" or the error for --depth MIN:MAX (metres).
+std::string parseDepthRange(const std::string& text, double& lo, double& hi) {
+    const std::size_t colon = text.find(':');
+    char* end1 = nullptr;
+    char* end2 = nullptr;
+    if (colon != std::string::npos) {
+        const std::string a = text.substr(0, colon);
+        const std::string b = text.substr(colon + 1);
+        lo = std::strtod(a.c_str(), &end1);
+        hi = std::strtod(b.c_str(), &end2);
+        if (!a.empty() && !b.empty() && *end1 == '\0' && *end2 == '\0' && std::isfinite(lo) && std::isfinite(hi) &&
+            lo > 0.0 && hi > lo) {
+            return "";
+        }
+    }
+    return "--depth '" + text + "': expected MIN:MAX in metres with 0 < MIN < MAX, e.g. 80:130";
+}
+
+std::string loadInputs(const DescentOptions& o, Inputs& in) {
+    auto i1 = ground::loadGrey16(o.image1);
+    if (!i1.ok) return i1.error;
+    auto i2 = ground::loadGrey16(o.image2);
+    if (!i2.ok) return i2.error;
+    if (!i1.value.sameSize(i2.value)) {
+        return o.image2 + ": size differs from " + o.image1;
+    }
+    const ground::Outcome cam = ground::readCameraModelFile(o.camera, in.geometry.camera);
+    if (!cam.ok) return cam.error;
+    auto p1 = ground::readCameraPoseSpec(o.pose1);
+    if (!p1.ok) return "--pose1 " + p1.error;
+    auto p2 = ground::readCameraPoseSpec(o.pose2);
+    if (!p2.ok) return "--pose2 " + p2.error;
+    in.image1 = std::move(i1.value);
+    in.image2 = std::move(i2.value);
+    in.geometry.pose1 = toPose(p1.value);
+    in.geometry.pose2 = toPose(p2.value);
+    return "";
+}
+
+// The sweep's configuration from the options; "" or the error.
+std::string makeConfig(const DescentOptions& o, Inputs& in) {
+    descent::Config& c = in.config;
+    c.max_width = in.image1.width;
+    c.max_height = in.image1.height;
+    c.planes = o.planes;
+    c.window = o.window;
+    if (o.score != "sad" && o.score != "ncc") {
+        return "--score '" + o.score + "': expected sad or ncc";
+    }
+    c.score = o.score == "ncc" ? descent::Score::kNcc : descent::Score::kSad;
+    if (!o.depth_range.empty()) {
+        const std::string e = parseDepthRange(o.depth_range, c.depth_min_m, c.depth_max_m);
+        if (!e.empty()) return e;
+    } else {
+        // Height of camera 1 above the site datum (elevation 0), +-30 %.
+        const double h = -in.geometry.pose1.position_site_m.z();
+        if (!(h > 0.0)) {
+            return "--pose1 " + o.pose1 + ": camera 1 is not above elevation 0; give --depth MIN:MAX";
+        }
+        c.depth_min_m = 0.7 * h;
+        c.depth_max_m = 1.3 * h;
+    }
+    const double f = (1.0 / c.depth_min_m - 1.0 / c.depth_max_m) * 0.5 * (c.depth_min_m + c.depth_max_m);
+    c.min_parallax_px = o.min_parallax_px >= 0.0 ? o.min_parallax_px : 50.0 * f;
+    const Status v = c.validate();
+    if (!v.isOk()) {
+        return std::string("configuration refused: ") + v.reason() + " (got " + std::to_string(v.detail()) + ")";
+    }
+    return "";
+}
+
+struct Grid {
+    descent::GridSpec spec;
+    std::int32_t cols = 0;
+    std::int32_t rows = 0;
+};
+
+// The grid covering every valid point, cell = --cell or one image-1 pixel on the ground.
+std::string planGrid(const DescentOptions& o, const Inputs& in, const FloatImage& depth, Grid& g) {
+    const CameraModel& cam = in.geometry.camera;
+    const descent::CameraPose& pose = in.geometry.pose1;
+    double nMin = 1e300, nMax = -1e300, eMin = 1e300, eMax = -1e300, dSum = 0.0;
+    std::size_t count = 0;
+    for (std::int32_t y = 0; y < depth.height; ++y) {
+        for (std::int32_t x = 0; x < depth.width; ++x) {
+            const float d = depth.at(x, y);
+            if (!std::isfinite(d)) continue;
+            const Vec3 ray((x - cam.cx_px) / cam.fx_px, (y - cam.cy_px) / cam.fy_px, 1.0);
+            const Vec3 p = pose.R_site_from_cam * (ray * static_cast<double>(d)) + pose.position_site_m;
+            nMin = std::min(nMin, p.x());
+            nMax = std::max(nMax, p.x());
+            eMin = std::min(eMin, p.y());
+            eMax = std::max(eMax, p.y());
+            dSum += static_cast<double>(d);
+            ++count;
+        }
+    }
+    if (count == 0U) return "no pixel got a depth (texture, overlap or --depth range?)";
+    g.spec.cell_m = o.cell_m > 0.0 ? o.cell_m : (dSum / static_cast<double>(count)) / cam.fx_px;
+    g.spec.origin_north_m = std::ceil(nMax / g.spec.cell_m) * g.spec.cell_m;
+    g.spec.origin_east_m = std::floor(eMin / g.spec.cell_m) * g.spec.cell_m;
+    const double rows = std::floor((g.spec.origin_north_m - nMin) / g.spec.cell_m) + 1.0;
+    const double cols = std::floor((eMax - g.spec.origin_east_m) / g.spec.cell_m) + 1.0;
+    if (rows > kMaxGridCells || cols > kMaxGridCells) {
+        return "--cell " + std::to_string(g.spec.cell_m) + ": the grid would exceed 4096 cells per side";
+    }
+    g.rows = static_cast<std::int32_t>(rows);
+    g.cols = static_cast<std::int32_t>(cols);
+    return "";
+}
+
+std::string writeOutputs(const DescentOptions& o, const FloatImage& depth, const FloatImage& elevation) {
+    ground::Outcome w = ground::writePfm(o.out_pfm, elevation);
+    if (w.ok && !o.depth_pfm.empty()) w = ground::writePfm(o.depth_pfm, depth);
+    if (w.ok && !o.color_png.empty()) {
+        float lo = std::numeric_limits<float>::infinity();
+        float hi = -lo;
+        for (const float v : elevation.pixels) {
+            if (std::isfinite(v)) {
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+            }
+        }
+        w = ground::writePng(o.color_png, ground::colorizeDisparity(elevation, lo, hi));
+    }
+    return w.ok ? "" : w.error;
+}
+
+}  // namespace
+
+CLI::App* addDescentCommand(CLI::App& app, DescentOptions& o) {
+    CLI::App* cmd = app.add_subcommand("descent", "elevation map from two descent images (plane sweep, flight module)");
+    cmd->add_option("IMG1", o.image1, "earlier (higher) frame: 8- or 12-bit grey PNG or PGM")->required();
+    cmd->add_option("IMG2", o.image2, "later (closer) frame, same size")->required();
+    cmd->add_option("--camera", o.camera, "camera model file (undistorted pinhole)")->required();
+    cmd->add_option("--pose1", o.pose1, "pose of camera 1: FILE or FILE:INDEX (vtm-camera-poses 1)")->required();
+    cmd->add_option("--pose2", o.pose2, "pose of camera 2: FILE or FILE:INDEX")->required();
+    cmd->add_option("--planes", o.planes, "planes, 3..256 (default 64)");
+    cmd->add_option("--depth", o.depth_range, "depth range MIN:MAX, metres along camera 1's axis "
+                                              "(default: camera 1's height above elevation 0, +-30 %)");
+    cmd->add_option("--score", o.score, "window score: ncc or sad (default ncc)");
+    cmd->add_option("--window", o.window, "window side, odd, 3..31 px (default 7)");
+    cmd->add_option("--min-parallax", o.min_parallax_px, "focus-of-expansion mask threshold, image-2 px");
+    cmd->add_option("--cell", o.cell_m, "grid cell, metres (default: one image-1 pixel on the ground)");
+    cmd->add_option("--out", o.out_pfm, "elevation grid as PFM (metres, NaN = NO_DATA, north up)")->required();
+    cmd->add_option("--color", o.color_png, "colour-coded elevation PNG (red = high ... purple = low, black = none)");
+    cmd->add_option("--depth-out", o.depth_pfm, "per-pixel depth of IMG1 as PFM (metres, NaN = none)");
+    return cmd;
+}
+
+int runDescent(const DescentOptions& o) {
+    Inputs in;
+    std::string error = loadInputs(o, in);
+    error = error.empty() ? makeConfig(o, in) : error;
+    if (!error.empty()) return fail(kExitInputError, error);
+    std::vector<std::byte> pool(descent::PlaneSweep::workspaceBytes(in.config));
+    Arena arena(pool.data(), pool.size());
+    descent::PlaneSweep sweep;
+    const Status init = sweep.init(in.config, arena);
+    if (!init.isOk()) return fail(kExitInputError, std::string("PlaneSweep::init: ") + init.reason());
+    FloatImage depth(in.image1.width, in.image1.height);
+    descent::SweepStats stats;
+    const Status s = sweep.compute(in.image1.view(), in.image2.view(), in.geometry,
+                                   descent::SweepOutput{depth.view(), {}, {}}, &stats);
+    if (!s.isOk()) {
+        return fail(kExitInputError, std::string(s.reason()) + " (" + o.image1 + ", " + o.image2 + ", " + o.camera +
+                                         "; detail " + std::to_string(s.detail()) + ")");
+    }
+    Grid g;
+    error = planGrid(o, in, depth, g);
+    if (!error.empty()) return fail(kExitInputError, error);
+    FloatImage elevation(g.cols, g.rows);
+    ground::Image<std::uint16_t> count(g.cols, g.rows);
+    const Status e = descent::elevationGrid(depth.view(), in.geometry.camera, in.geometry.pose1, g.spec,
+                                            elevation.view(), count.view());
+    if (!e.isOk()) return fail(kExitInputError, std::string("elevation grid: ") + e.reason());
+    error = writeOutputs(o, depth, elevation);
+    if (!error.empty()) return fail(kExitInputError, error);
+    const double px = static_cast<double>(depth.pixels.size());
+    std::printf("vtm descent: %s + %s, %dx%d, %d planes %.1f..%.1f m, scale %.3f\n", o.image1.c_str(),
+                o.image2.c_str(), depth.width, depth.height, in.config.planes, in.config.depth_min_m,
+                in.config.depth_max_m, stats.scale);
+    std::printf("  valid %.2f %%, low parallax %.2f %%, out of view %.2f %%\n", 100.0 * stats.valid_pixels / px,
+                100.0 * stats.reason_counts[3] / px, 100.0 * stats.reason_counts[2] / px);
+    std::printf("  grid %dx%d cells of %.3f m, north edge %.3f m, west edge %.3f m\n", g.cols, g.rows, g.spec.cell_m,
+                g.spec.origin_north_m, g.spec.origin_east_m);
+    return kExitOk;
+}
+
+}  // namespace vtm::tools
