@@ -419,7 +419,12 @@ Status MotionRefiner::finish(const Motion& m, MotionResult& result) noexcept {
     // sigma^2 = sum r^2 / (2n - n - 5): 2 residuals per inlier, n ranges + 5 motion.
     const double n = static_cast<double>(result.inliers);
     const double sigma2 = result.rms_px * result.rms_px * n / (n - 5.0);
-    const Mat5 cov = sigma2 * llt.solve(Mat5::Identity());
+    // Column by column: a matrix right-hand side would take Eigen's blocked (level-3)
+    // triangular solver, whose workspace may come from the heap.
+    Mat5 cov;
+    for (int c = 0; c < 5; ++c) {
+        cov.col(c) = sigma2 * llt.solve(Vec5::Unit(c));
+    }
     for (int r = 0; r < 5; ++r) {
         for (int c = 0; c < 5; ++c) {
             result.covariance[r * 5 + c] = cov(r, c);
