@@ -102,6 +102,29 @@ TEST(TemplateMatcher, MatchesAShiftedImageWithinAFifthOfAPixel) {
     EXPECT_LT(worst, 0.2);
 }
 
+// A region larger than kMaxCoarseCandidates positions (full resolution only, 120 px
+// margin: about 240 x 210 positions) is searched on a stride over all of it, not cut off
+// in raster order: the features still match, as precisely as with a small region.
+TEST(TemplateMatcher, LargeRegionIsSearchedWhole) {
+    const auto scene = std::make_unique<Scene>();
+    MatcherConfig mc = matcherConfig();
+    mc.pyramid_levels = 0;
+    Modules m(detectorConfig(), mc);
+    const auto fs = std::make_unique<FeatureSet>();
+    const auto out = std::make_unique<MatchSet>();
+    ASSERT_TRUE(m.detector.detect(scene->a.view(), *fs).isOk());
+    MatchPrediction p = scene->prediction();
+    p.margin_px = 120.0;
+    ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, p, *out).isOk());
+    double worst = 0.0;
+    for (std::int32_t i = 0; i < out->count; ++i) {
+        worst = std::max(worst, (out->items[i].pixel_b - out->items[i].pixel_a - Vec2(kShiftX, kShiftY)).norm());
+    }
+    std::printf("[ measure  ] stride search: %d features, %d matched, worst %.3f px\n", fs->count, out->count, worst);
+    EXPECT_GE(out->count, fs->count * 7 / 10);
+    EXPECT_LT(worst, 0.2);
+}
+
 TEST(TemplateMatcher, DoesNotMatchOutsideThePredictedRegion) {
     const auto scene = std::make_unique<Scene>();
     Modules m(detectorConfig(), matcherConfig());
@@ -191,6 +214,9 @@ TEST(TemplateMatcher, BadInputsGiveTheDocumentedStatus) {
     p = scene->prediction();
     p.margin_px = -1.0;
     EXPECT_NE(std::strstr(run(p).reason(), "margin_px"), nullptr);
+    p = scene->prediction();
+    p.surface_normal_a = Vec3(0.0, 0.0, 10.0);
+    EXPECT_NE(std::strstr(run(p).reason(), "surface_normal_a"), nullptr);
     EXPECT_EQ(m.matcher.match(ImageView<const std::uint8_t>(), scene->b.view(), *fs, scene->prediction(), *out).code(),
               StatusCode::kInvalidArgument);
     const std::vector<std::uint8_t> big(static_cast<std::size_t>((kW + 1) * kH));

@@ -192,7 +192,9 @@ void ForstnerDetector::computeStrength(const ImageView<const std::uint8_t>& imag
 // grid cell's list (sorted by w; an equal w keeps the earlier position first). Plateaus:
 // a pixel must beat its earlier (raster order) neighbours strictly and equal or beat the
 // later ones, so exactly one pixel of a flat maximum survives. Returns the candidate count.
-std::int32_t ForstnerDetector::selectCandidates(std::int32_t width, std::int32_t height) noexcept {
+std::int32_t ForstnerDetector::selectCandidates(std::int32_t width, std::int32_t height,
+                                                const ImageView<const std::uint8_t>& mask) noexcept {
+    const bool masked = mask.data() != nullptr;
     const std::int32_t b = config_.border_px;
     float best = 0.f;
     for (std::int32_t y = b; y < height - b; ++y) {
@@ -207,7 +209,8 @@ std::int32_t ForstnerDetector::selectCandidates(std::int32_t width, std::int32_t
     for (std::int32_t y = b; y < height - b; ++y) {
         for (std::int32_t x = b; x < width - b; ++x) {
             const float w = w_[idx(x, y, width)];
-            if (!(w > 0.f) || w < threshold || q_[idx(x, y, width)] < config_.min_roundness) {
+            if (!(w > 0.f) || w < threshold || q_[idx(x, y, width)] < config_.min_roundness ||
+                (masked && mask.row(y)[x] == 0U)) {
                 continue;
             }
             const float* up = &w_[idx(x, y - 1, width)];
@@ -393,7 +396,7 @@ bool ForstnerDetector::pointEstimate(const ImageView<const std::uint8_t>& image,
 }
 
 Status ForstnerDetector::detect(const ImageView<const std::uint8_t>& image, FeatureSet& out,
-                                DetectorStats* stats) noexcept {
+                                DetectorStats* stats, const ImageView<const std::uint8_t>& mask) noexcept {
     out.count = 0;
     if (stats != nullptr) {
         *stats = DetectorStats{};
@@ -413,8 +416,12 @@ Status ForstnerDetector::detect(const ImageView<const std::uint8_t>& image, Feat
         return Status(StatusCode::kSizeMismatch, "ForstnerDetector::detect: image smaller than 2 * border_px + 3",
                       image.width() < min_side ? image.width() : image.height());
     }
+    if (mask.data() != nullptr && (mask.width() != image.width() || mask.height() != image.height())) {
+        return Status(StatusCode::kSizeMismatch, "ForstnerDetector::detect: mask is not the image's size",
+                      mask.width());
+    }
     computeStrength(image);
-    const std::int32_t candidates = selectCandidates(image.width(), image.height());
+    const std::int32_t candidates = selectCandidates(image.width(), image.height(), mask);
     emitFeatures(out);
     for (std::int32_t i = 0; i < out.count; ++i) {
         Feature& f = out.items[i];

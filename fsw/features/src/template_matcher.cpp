@@ -11,6 +11,36 @@ namespace vtm::features {
 namespace {
 
 constexpr std::int32_t kMaxCapacityPx = 4096;
+// Template samples are bilinear with weights quantised to 1/kWeightOne, and stored in
+// 1/kWeightOne grey levels (uint16, at most 255 * 256): all NCC sums stay exact integers.
+constexpr std::int32_t kWeightShift = 8;
+constexpr std::int32_t kWeightOne = 1 << kWeightShift;
+// A plane-induced warp is trusted only inside these bounds (beyond them the plane is seen
+// almost edge-on from one camera, or from its back side by the other): area ratio
+// det M in [1/16, 16] and every entry within +-8.
+constexpr double kMaxWarpArea = 16.0;
+constexpr double kMaxWarpEntry = 8.0;
+// Step along the plane for the finite-difference Jacobians, relative to the range (the
+// projection is smooth: only the ratio of the two Jacobians matters).
+constexpr double kPlaneStepRel = 0.01;
+
+// Local affine map of pixel offsets [a b; c d] (from-image offsets -> to-image offsets).
+struct Affine2 {
+    double a = 1.0, b = 0.0, c = 0.0, d = 1.0;
+};
+
+Vec2 apply(const Affine2& m, const Vec2& v) noexcept {
+    return Vec2(m.a * v.x() + m.b * v.y(), m.c * v.x() + m.d * v.y());
+}
+
+bool invert(const Affine2& m, Affine2& inv) noexcept {
+    const double det = m.a * m.d - m.b * m.c;
+    if (!(std::fabs(det) > 1.0e-12)) {
+        return false;
+    }
+    inv = Affine2{m.d / det, -m.b / det, -m.c / det, m.a / det};
+    return true;
+}
 
 // One direction of the search: from image `from` (where the template is) into `to`.
 struct Geometry {
@@ -21,7 +51,22 @@ struct Geometry {
     double range_min_m = 1.0;
     double range_max_m = 100.0;
     double margin_px = 0.0;
+    Vec3 normal_from = Vec3::Zero();  // unit terrain normal in `from`'s frame; zero = unknown
+    // `to`'s viewing axis (the ray through its image centre) in its own frame: depths
+    // along it parametrise the ray's image (see RaySegment).
+    Vec3 to_centre_m = Vec3::Zero();
+    Vec3 to_axis = Vec3::UnitZ();
 };
+
+// Sets g.to_centre_m / g.to_axis from g.to's model.
+void setAxis(Geometry& g) noexcept {
+    CameraRay ray;
+    const Vec2 centre(0.5 * (static_cast<double>(g.to->width_px) - 1.0), 0.5 * (static_cast<double>(g.to->height_px) - 1.0));
+    if (backProjectPixel(*g.to, centre, ray).isOk()) {
+        g.to_centre_m = ray.origin_m;
+        g.to_axis = ray.direction;
+    }
+}
 
 enum class Outcome : std::uint8_t { kFound, kNoRegion, kNoMatch };
 
@@ -36,10 +81,16 @@ struct Pos {
     std::int32_t y;
 };
 
-// Template sums (exact integers) of the window around (ax, ay) in `img`.
+// Sums (exact integers) of a template's values.
 struct TemplateSums {
     std::int64_t sum = 0;
     std::int64_t sum_sq = 0;
+};
+
+// A warped template: (2 half + 1)^2 values, row-major, in 1/kWeightOne grey levels.
+struct Template {
+    const std::uint16_t* values = nullptr;
+    TemplateSums sums{};
 };
 
 std::int32_t roundToInt(double v) noexcept { return static_cast<std::int32_t>(std::floor(v + 0.5)); }
@@ -49,76 +100,292 @@ double toLevel(double x0, std::int32_t level) noexcept {
     const double scale = static_cast<double>(std::int32_t{1} << level);
     return (x0 + 0.5) / scale - 0.5;
 }
+double fromLevel(double xl, std::int32_t level) noexcept {
+    const double scale = static_cast<double>(std::int32_t{1} << level);
+    return (xl + 0.5) * scale - 0.5;
+}
+Vec2 toLevel(const Vec2& p, std::int32_t level) noexcept { return Vec2(toLevel(p.x(), level), toLevel(p.y(), level)); }
+Vec2 fromLevel(const Vec2& p, std::int32_t level) noexcept {
+    return Vec2(fromLevel(p.x(), level), fromLevel(p.y(), level));
+}
+Vec2 toVec(Pos p) noexcept { return Vec2(static_cast<double>(p.x), static_cast<double>(p.y)); }
 
 bool templateFits(const ImageView<const std::uint8_t>& img, Pos p, std::int32_t half) noexcept {
     return p.x >= half && p.y >= half && p.x < img.width() - half && p.y < img.height() - half;
 }
 
-TemplateSums templateSums(const ImageView<const std::uint8_t>& img, Pos a, std::int32_t half) noexcept {
-    TemplateSums s;
-    for (std::int32_t dy = -half; dy <= half; ++dy) {
-        const std::uint8_t* r = img.row(a.y + dy);
-        for (std::int32_t dx = -half; dx <= half; ++dx) {
-            const std::int64_t v = r[a.x + dx];
-            s.sum += v;
-            s.sum_sq += v * v;
-        }
-    }
-    return s;
+// Bilinear sample of `img` at (x, y) clamped to the image, in 1/kWeightOne grey levels.
+// The weights are quantised first, so the result is an exact integer on every target.
+std::uint16_t sampleBilinear(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
+    const double xc = std::clamp(x, 0.0, static_cast<double>(img.width() - 1));
+    const double yc = std::clamp(y, 0.0, static_cast<double>(img.height() - 1));
+    const std::int32_t x0 = std::min(static_cast<std::int32_t>(std::floor(xc)), img.width() - 2);
+    const std::int32_t y0 = std::min(static_cast<std::int32_t>(std::floor(yc)), img.height() - 2);
+    const std::int32_t wx = roundToInt((xc - static_cast<double>(x0)) * static_cast<double>(kWeightOne));
+    const std::int32_t wy = roundToInt((yc - static_cast<double>(y0)) * static_cast<double>(kWeightOne));
+    const std::uint8_t* r0 = img.row(y0) + x0;
+    const std::uint8_t* r1 = img.row(y0 + 1) + x0;
+    const std::int32_t top = r0[0] * (kWeightOne - wx) + r0[1] * wx;
+    const std::int32_t bottom = r1[0] * (kWeightOne - wx) + r1[1] * wx;
+    const std::int32_t v = (top * (kWeightOne - wy) + bottom * wy + kWeightOne / 2) >> kWeightShift;
+    return static_cast<std::uint16_t>(v);
 }
 
-// NCC of the template around `a` in `from` with the window around `b` in `to`; both must
-// fit. 0 when either window is flat (correlation undefined).
-double ncc(const ImageView<const std::uint8_t>& from, Pos a, const TemplateSums& ts,
-           const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept {
-    std::int64_t sb = 0, sbb = 0, sab = 0;
+// Template T(u) = img(centre + inv u) for u on the window grid (bilinear). With inv the
+// identity every sample falls on a pixel: T is the plain window, scaled by kWeightOne.
+Template buildTemplate(const ImageView<const std::uint8_t>& img, Pos centre, const Affine2& inv, std::int32_t half,
+                       std::uint16_t* dst) noexcept {
+    Template t;
+    t.values = dst;
+    std::size_t i = 0U;
     for (std::int32_t dy = -half; dy <= half; ++dy) {
-        const std::uint8_t* ra = from.row(a.y + dy) + a.x;
+        for (std::int32_t dx = -half; dx <= half; ++dx) {
+            const Vec2 off = apply(inv, Vec2(static_cast<double>(dx), static_cast<double>(dy)));
+            const std::uint16_t v =
+                sampleBilinear(img, static_cast<double>(centre.x) + off.x(), static_cast<double>(centre.y) + off.y());
+            dst[i] = v;
+            ++i;
+            t.sums.sum += v;
+            t.sums.sum_sq += static_cast<std::int64_t>(v) * v;
+        }
+    }
+    return t;
+}
+
+// NCC of template `t` with the window around `b` in `to` (which must fit). 0 when either
+// is flat (correlation undefined).
+double ncc(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept {
+    std::int64_t sb = 0, sbb = 0, sab = 0;
+    const std::uint16_t* ta = t.values;
+    for (std::int32_t dy = -half; dy <= half; ++dy) {
         const std::uint8_t* rb = to.row(b.y + dy) + b.x;
         for (std::int32_t dx = -half; dx <= half; ++dx) {
-            const std::int64_t va = ra[dx];
+            const std::int64_t va = *ta;
             const std::int64_t vb = rb[dx];
+            ++ta;
             sb += vb;
             sbb += vb * vb;
             sab += va * vb;
         }
     }
     const std::int64_t n = static_cast<std::int64_t>(2 * half + 1) * (2 * half + 1);
-    const std::int64_t var_a = n * ts.sum_sq - ts.sum * ts.sum;
+    const std::int64_t var_a = n * t.sums.sum_sq - t.sums.sum * t.sums.sum;
     const std::int64_t var_b = n * sbb - sb * sb;
     if (var_a <= 0 || var_b <= 0) {
         return 0.0;
     }
-    const std::int64_t cov = n * sab - ts.sum * sb;
+    const std::int64_t cov = n * sab - t.sums.sum * sb;
     return static_cast<double>(cov) / math::sqrt(static_cast<double>(var_a) * static_cast<double>(var_b));
 }
 
-// Projection into `to` of the ray through `pixel` of `from`, sampled uniformly in 1/range.
-// Returns the number of samples that project (0: no region).
-std::int32_t predictPolyline(const Geometry& g, const Vec2& pixel, Vec2 (&poly)[kRaySamples]) noexcept {
-    CameraRay ray;
-    if (!backProjectPixel(*g.from, pixel, ray).isOk()) {
-        return 0;
-    }
-    const double inv_near = 1.0 / g.range_min_m;
-    const double inv_far = 1.0 / g.range_max_m;
-    std::int32_t n = 0;
-    for (std::int32_t k = 0; k < kRaySamples; ++k) {
-        const double f = static_cast<double>(k) / static_cast<double>(kRaySamples - 1);
-        const double range_m = 1.0 / (inv_near + (inv_far - inv_near) * f);
-        const Vec3 x_from = ray.origin_m + range_m * ray.direction;
-        const Vec3 x_to = g.R_to_from * x_from + g.t_to_from_m;
-        Vec2 p;
-        if (projectPoint(*g.to, x_to, p).isOk() && math::isFinite(p.x()) && math::isFinite(p.y())) {
-            poly[n] = p;
-            ++n;
+// Local affine map from `from`-pixel offsets to `to`-pixel offsets induced by the plane
+// with normal `n` through x_from: M = J_to J_from^-1, the Jacobians by projecting x_from
+// and x_from + s e1, x_from + s e2 (e1, e2 spanning the plane) into both cameras.
+bool planeAffine(const Geometry& g, const Vec3& x_from, const Vec3& n, double range_m, Affine2& m) noexcept {
+    const Vec3 an = n.cwiseAbs();
+    const Vec3 axis = (an.x() <= an.y() && an.x() <= an.z()) ? Vec3::UnitX()
+                                                               : (an.y() <= an.z() ? Vec3::UnitY() : Vec3::UnitZ());
+    const Vec3 e1 = n.cross(axis).normalized();
+    const Vec3 e2 = n.normalized().cross(e1);
+    const double s = kPlaneStepRel * range_m;
+    const Vec3 pts[3] = {x_from, x_from + s * e1, x_from + s * e2};
+    Vec2 pf[3], pt[3];
+    for (std::int32_t i = 0; i < 3; ++i) {
+        if (!projectPoint(*g.from, pts[i], pf[i]).isOk() ||
+            !projectPoint(*g.to, g.R_to_from * pts[i] + g.t_to_from_m, pt[i]).isOk()) {
+            return false;
         }
     }
-    return n;
+    const Affine2 j_from{pf[1].x() - pf[0].x(), pf[2].x() - pf[0].x(), pf[1].y() - pf[0].y(), pf[2].y() - pf[0].y()};
+    const Affine2 j_to{pt[1].x() - pt[0].x(), pt[2].x() - pt[0].x(), pt[1].y() - pt[0].y(), pt[2].y() - pt[0].y()};
+    Affine2 j_from_inv;
+    if (!invert(j_from, j_from_inv)) {
+        return false;
+    }
+    m.a = j_to.a * j_from_inv.a + j_to.b * j_from_inv.c;
+    m.b = j_to.a * j_from_inv.b + j_to.b * j_from_inv.d;
+    m.c = j_to.c * j_from_inv.a + j_to.d * j_from_inv.c;
+    m.d = j_to.c * j_from_inv.b + j_to.d * j_from_inv.d;
+    const double det = m.a * m.d - m.b * m.c;  // < 0: the cameras see opposite sides
+    const double biggest = std::max(std::max(std::fabs(m.a), std::fabs(m.b)), std::max(std::fabs(m.c), std::fabs(m.d)));
+    return det >= 1.0 / kMaxWarpArea && det <= kMaxWarpArea && biggest <= kMaxWarpEntry;
 }
 
-double distanceSqToPolyline(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept {
-    double best = (p - poly[0]).squaredNorm();
+// The warp at one ray sample for hypothesis `hyp`: 0 = the terrain plane if a normal is
+// known (else hypothesis 1), 1 = the plane perpendicular to the ray (fronto-parallel);
+// a plane whose warp is unusable falls back to the next, the last to the identity.
+Affine2 sampleWarp(const Geometry& g, const Vec3& ray_dir, const Vec3& x_from, double range_m,
+                   std::int32_t hyp) noexcept {
+    Affine2 m;
+    if (hyp == 0 && !g.normal_from.isZero(0.0) && planeAffine(g, x_from, g.normal_from, range_m, m)) {
+        return m;
+    }
+    if (planeAffine(g, x_from, -ray_dir, range_m, m)) {
+        return m;
+    }
+    return Affine2{};
+}
+
+// A's ray projected into `to`, at kRaySamples points spread evenly along its image
+// (inside the image widened by the margin), with the warp at each. Samples that do not
+// project are dropped.
+// With a terrain normal two warps per sample are tried (kWarpHypotheses): the terrain
+// plane and the fronto-parallel plane; the one with the higher NCC wins. Index of
+// hypothesis h at sample k: h * kRaySamples + k.
+constexpr std::int32_t kWarpHypotheses = 2;
+constexpr std::size_t kBankRefineSlot = std::size_t{kWarpHypotheses} * std::size_t{kRaySamples};  // last bank slot
+struct RaySamples {
+    Vec2 pixel[kRaySamples];                       // projections into `to`, full resolution
+    Affine2 warp[kWarpHypotheses * kRaySamples];   // from-offsets -> to-offsets at that sample
+    Affine2 unwarp[kWarpHypotheses * kRaySamples];
+    std::int32_t n = 0;
+    std::int32_t hypotheses = 1;
+};
+
+// The ray segment X(r) = origin + r dir, r in [r0, r1], with the depths d0, d1 of its
+// ends along `to`'s axis (both > 0). Its image is (for a pinhole, exactly) a straight
+// segment along which the pixel moves linearly in tau: r(tau) = beta / alpha with
+// alpha = (1-tau)/d0 + tau/d1, beta = (1-tau) r0/d0 + tau r1/d1 (the point of the chord
+// between the two ends' depth-normalised images, pulled back onto the ray).
+struct RaySegment {
+    Vec3 origin_m = Vec3::Zero();
+    Vec3 dir = Vec3::UnitZ();
+    double r0 = 0.0, r1 = 0.0, d0 = 1.0, d1 = 1.0;
+};
+
+double rangeAtTau(const RaySegment& s, double tau) noexcept {
+    const double alpha = (1.0 - tau) / s.d0 + tau / s.d1;
+    const double beta = (1.0 - tau) * s.r0 / s.d0 + tau * s.r1 / s.d1;
+    return beta / alpha;
+}
+
+// The part of [range_min, range_max] of the ray through `pixel` that lies in front of
+// `to` (depth along its axis at least 1e-3 range_min). False when there is none.
+bool raySegment(const Geometry& g, const Vec2& pixel, RaySegment& seg) noexcept {
+    CameraRay ray;
+    if (!backProjectPixel(*g.from, pixel, ray).isOk()) {
+        return false;
+    }
+    seg.origin_m = ray.origin_m;
+    seg.dir = ray.direction;
+    const double k0 = g.to_axis.dot(g.R_to_from * ray.origin_m + g.t_to_from_m - g.to_centre_m);
+    const double k1 = g.to_axis.dot(g.R_to_from * ray.direction);
+    const double eps = 1.0e-3 * g.range_min_m;
+    seg.r0 = g.range_min_m;
+    seg.r1 = g.range_max_m;
+    if (k1 > 0.0) {
+        seg.r0 = std::max(seg.r0, (eps - k0) / k1);
+    } else if (k1 < 0.0) {
+        seg.r1 = std::min(seg.r1, (k0 - eps) / -k1);
+    } else if (k0 < eps) {
+        return false;
+    }
+    seg.d0 = k0 + seg.r0 * k1;
+    seg.d1 = k0 + seg.r1 * k1;
+    return seg.r0 < seg.r1 && seg.d0 > 0.0 && seg.d1 > 0.0;
+}
+
+bool projectAt(const Geometry& g, const RaySegment& seg, double tau, Vec3& x_from, double& range_m,
+               Vec2& p) noexcept {
+    range_m = rangeAtTau(seg, tau);
+    x_from = seg.origin_m + range_m * seg.dir;
+    return projectPoint(*g.to, g.R_to_from * x_from + g.t_to_from_m, p).isOk() && math::isFinite(p.x()) &&
+           math::isFinite(p.y());
+}
+
+// Whether the segment p..q meets the rectangle [lo, hi] (Liang-Barsky clipping).
+bool segmentMeetsBox(const Vec2& p, const Vec2& q, const Vec2& lo, const Vec2& hi) noexcept {
+    double t0 = 0.0, t1 = 1.0;
+    const double d[2] = {q.x() - p.x(), q.y() - p.y()};
+    const double start[2] = {p.x(), p.y()};
+    const double lows[2] = {lo.x(), lo.y()};
+    const double highs[2] = {hi.x(), hi.y()};
+    for (std::int32_t i = 0; i < 2; ++i) {
+        if (d[i] == 0.0) {
+            if (start[i] < lows[i] || start[i] > highs[i]) {
+                return false;
+            }
+            continue;
+        }
+        const double ta = (lows[i] - start[i]) / d[i];
+        const double tb = (highs[i] - start[i]) / d[i];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+    }
+    return t0 <= t1;
+}
+
+// The tau interval whose image meets `to`'s image widened by margin_px + 1: a scan of
+// kPreSamples + 1 points (a piece between two points that project counts when its chord
+// meets the widened image). False when no part of the ray is seen there.
+constexpr std::int32_t kPreSamples = 128;
+bool visibleTau(const Geometry& g, const RaySegment& seg, double& tau_lo, double& tau_hi) noexcept {
+    const double m = g.margin_px + 1.0;
+    const Vec2 lo(-m, -m);
+    const Vec2 hi(static_cast<double>(g.to->width_px) - 1.0 + m, static_cast<double>(g.to->height_px) - 1.0 + m);
+    std::int32_t first = -1, last = -1;
+    bool prev_ok = false;
+    Vec2 prev = Vec2::Zero();
+    for (std::int32_t i = 0; i <= kPreSamples; ++i) {
+        Vec3 x;
+        double r = 0.0;
+        Vec2 p;
+        const bool ok = projectAt(g, seg, static_cast<double>(i) / kPreSamples, x, r, p);
+        if (ok && (segmentMeetsBox(prev_ok ? prev : p, p, lo, hi))) {
+            first = (first < 0) ? (prev_ok ? i - 1 : i) : first;
+            last = i;
+        }
+        prev_ok = ok;
+        prev = p;
+    }
+    if (first < 0) {
+        return false;
+    }
+    tau_lo = static_cast<double>(first) / kPreSamples;
+    tau_hi = static_cast<double>(last) / kPreSamples;
+    return true;
+}
+
+void predictSamples(const Geometry& g, const Vec2& pixel, RaySamples& rs) noexcept {
+    rs.n = 0;
+    rs.hypotheses = g.normal_from.isZero(0.0) ? 1 : kWarpHypotheses;
+    RaySegment seg;
+    double tau_lo = 0.0, tau_hi = 0.0;
+    if (!raySegment(g, pixel, seg) || !visibleTau(g, seg, tau_lo, tau_hi)) {
+        return;
+    }
+    for (std::int32_t k = 0; k < kRaySamples; ++k) {
+        const double f = static_cast<double>(k) / static_cast<double>(kRaySamples - 1);
+        Vec3 x_from;
+        double range_m = 0.0;
+        Vec2 p;
+        if (!projectAt(g, seg, tau_lo + (tau_hi - tau_lo) * f, x_from, range_m, p)) {
+            continue;
+        }
+        for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
+            const std::int32_t w_index = h * kRaySamples + rs.n;  // < kWarpHypotheses * kRaySamples
+            const auto w = static_cast<std::size_t>(w_index);
+            rs.warp[w] = sampleWarp(g, seg.dir, x_from, range_m, h);
+            if (!invert(rs.warp[w], rs.unwarp[w])) {
+                rs.warp[w] = Affine2{};  // cannot happen: sampleWarp returns an invertible map
+                rs.unwarp[w] = Affine2{};
+            }
+        }
+        rs.pixel[rs.n] = p;
+        ++rs.n;
+    }
+}
+
+// Squared distance from p to the polyline poly[0..n), and the index of the vertex
+// nearest to p (the ray sample whose template is used at p).
+struct Nearest {
+    double dist_sq_polyline = 0.0;
+    std::int32_t vertex = 0;
+};
+Nearest nearestOnPolyline(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept {
+    Nearest r;
+    r.dist_sq_polyline = (p - poly[0]).squaredNorm();
+    double best_vertex = r.dist_sq_polyline;
     for (std::int32_t i = 1; i < n; ++i) {
         const Vec2 d = poly[i] - poly[i - 1];
         const double len2 = d.squaredNorm();
@@ -127,9 +394,14 @@ double distanceSqToPolyline(const Vec2& p, const Vec2* poly, std::int32_t n) noe
             s = std::clamp((p - poly[i - 1]).dot(d) / len2, 0.0, 1.0);
         }
         const Vec2 q = poly[i - 1] + s * d;
-        best = std::min(best, (p - q).squaredNorm());
+        r.dist_sq_polyline = std::min(r.dist_sq_polyline, (p - q).squaredNorm());
+        const double dv = (p - poly[i]).squaredNorm();
+        if (dv < best_vertex) {
+            best_vertex = dv;
+            r.vertex = i;
+        }
     }
-    return best;
+    return r;
 }
 
 // The level-`level` bounding box of the widened polyline, clipped to the positions where
@@ -158,47 +430,90 @@ Box regionBox(const Vec2* poly, std::int32_t n, double margin, const ImageView<c
     return b;
 }
 
+// Smallest stride s >= 1 for which the box's s-grid holds at most kMaxCoarseCandidates
+// positions (the whole region is always covered; only its sampling gets sparser).
+std::int32_t regionStride(const Box& box) noexcept {
+    const std::int64_t w = box.hi.x - box.lo.x + 1;
+    const std::int64_t h = box.hi.y - box.lo.y + 1;
+    std::int64_t s = 1;
+    while (((w + s - 1) / s) * ((h + s - 1) / s) > kMaxCoarseCandidates) {  // bound: s <= max(w, h) <= 4 * 4096
+        ++s;
+    }
+    return static_cast<std::int32_t>(s);
+}
+
 struct Best {
     Pos pos{0, 0};
     double score = -2.0;
     std::int32_t evaluated = 0;
+    std::int32_t sample = 0;  // ray sample whose template scored best
+    std::int32_t stride = 1;  // grid step of the search (coarse level)
 };
 
-// Exhaustive NCC over the region at one level (raster order; the first of equal scores wins).
-Best coarseSearch(const ImageView<const std::uint8_t>& from, Pos a, const ImageView<const std::uint8_t>& to,
-                  const Vec2* poly, std::int32_t n, double margin, std::int32_t half) noexcept {
+// Scratch of one search: the template of every ray sample at the coarse level (built on
+// first use) and one slot for the refinement levels.
+struct TemplateBank {
+    std::uint16_t* storage = nullptr;  // (kWarpHypotheses * kRaySamples + 1) * window^2 values
+    std::size_t stride = 0U;           // window^2
+    Template coarse[kWarpHypotheses * kRaySamples];
+    bool built[kWarpHypotheses * kRaySamples] = {};
+};
+
+struct LevelView {
+    const ImageView<const std::uint8_t>* from;
+    const ImageView<const std::uint8_t>* to;
+    Pos a;              // template centre in `from` (rounded feature position)
+    std::int32_t half;  // template half width
+};
+
+// NCC over the region at one level, on the stride regionStride() gives (raster order;
+// the first of equal scores wins). Each position uses the template of its nearest sample.
+Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, double margin,
+                  TemplateBank& bank) noexcept {
     Best best;
-    const Box box = regionBox(poly, n, margin, to, half);
-    const TemplateSums ts = templateSums(from, a, half);
+    const Box box = regionBox(poly, rs.n, margin, *v.to, v.half);
+    if (box.lo.x > box.hi.x || box.lo.y > box.hi.y) {
+        return best;
+    }
+    const std::int32_t step = regionStride(box);
     const double margin_sq = margin * margin;
-    for (std::int32_t y = box.lo.y; y <= box.hi.y && best.evaluated < kMaxCoarseCandidates; ++y) {
-        for (std::int32_t x = box.lo.x; x <= box.hi.x && best.evaluated < kMaxCoarseCandidates; ++x) {
-            const Vec2 p(static_cast<double>(x), static_cast<double>(y));
-            if (distanceSqToPolyline(p, poly, n) > margin_sq) {
+    for (std::int32_t y = box.lo.y; y <= box.hi.y; y += step) {
+        for (std::int32_t x = box.lo.x; x <= box.hi.x; x += step) {
+            const Nearest nr = nearestOnPolyline(toVec(Pos{x, y}), poly, rs.n);
+            if (nr.dist_sq_polyline > margin_sq) {
                 continue;
             }
-            const double s = ncc(from, a, ts, to, Pos{x, y}, half);
-            ++best.evaluated;
-            if (s > best.score) {
-                best.score = s;
-                best.pos = Pos{x, y};
+            for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
+                const std::int32_t k_index = h * kRaySamples + nr.vertex;
+                const auto k = static_cast<std::size_t>(k_index);
+                if (!bank.built[k]) {
+                    bank.coarse[k] = buildTemplate(*v.from, v.a, rs.unwarp[k], v.half, bank.storage + k * bank.stride);
+                    bank.built[k] = true;
+                }
+                const double s = ncc(bank.coarse[k], *v.to, Pos{x, y}, v.half);
+                if (s > best.score) {
+                    best.score = s;
+                    best.pos = Pos{x, y};
+                    best.sample = k_index;
+                }
             }
+            ++best.evaluated;
         }
     }
+    best.stride = step;
     return best;
 }
 
-// Best NCC within +-radius of `centre` (positions where the template fits in `to`).
-Best localSearch(const ImageView<const std::uint8_t>& from, Pos a, const ImageView<const std::uint8_t>& to,
-                 Pos centre, std::int32_t radius, std::int32_t half) noexcept {
+// Best NCC of template t within +-radius of `centre` (positions where it fits in `to`).
+Best localSearch(const Template& t, const ImageView<const std::uint8_t>& to, Pos centre, std::int32_t radius,
+                 std::int32_t half) noexcept {
     Best best;
-    const TemplateSums ts = templateSums(from, a, half);
     for (std::int32_t y = centre.y - radius; y <= centre.y + radius; ++y) {
         for (std::int32_t x = centre.x - radius; x <= centre.x + radius; ++x) {
             if (!templateFits(to, Pos{x, y}, half)) {
                 continue;
             }
-            const double s = ncc(from, a, ts, to, Pos{x, y}, half);
+            const double s = ncc(t, to, Pos{x, y}, half);
             ++best.evaluated;
             if (s > best.score) {
                 best.score = s;
@@ -218,29 +533,96 @@ double parabolaOffset(double sm, double s0, double sp) noexcept {
     return std::clamp(0.5 * (sm - sp) / curvature, -0.5, 0.5);
 }
 
-// Subpixel position at full resolution around the integer best `b`.
-Vec2 subpixel(const ImageView<const std::uint8_t>& from, Pos a, const ImageView<const std::uint8_t>& to, Pos b,
-              double s0, std::int32_t half) noexcept {
-    const TemplateSums ts = templateSums(from, a, half);
-    Vec2 off = Vec2::Zero();
-    if (templateFits(to, Pos{b.x - 1, b.y}, half) && templateFits(to, Pos{b.x + 1, b.y}, half)) {
-        off.x() = parabolaOffset(ncc(from, a, ts, to, Pos{b.x - 1, b.y}, half), s0,
-                                 ncc(from, a, ts, to, Pos{b.x + 1, b.y}, half));
+// Subpixel position at full resolution around the integer best `b`: a 2D quadratic
+// through the 3x3 NCC neighbourhood (with the cross term: a warped template gives a
+// tilted, elongated peak, which separate parabolas in x and y would locate with a bias),
+// its vertex clamped to +-0.5 px; separate parabolas when the quadratic has no maximum or
+// the neighbourhood leaves the image.
+Vec2 subpixel(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, double s0,
+              std::int32_t half) noexcept {
+    if (!templateFits(to, Pos{b.x - 1, b.y - 1}, half) || !templateFits(to, Pos{b.x + 1, b.y + 1}, half)) {
+        return toVec(b);
     }
-    if (templateFits(to, Pos{b.x, b.y - 1}, half) && templateFits(to, Pos{b.x, b.y + 1}, half)) {
-        off.y() = parabolaOffset(ncc(from, a, ts, to, Pos{b.x, b.y - 1}, half), s0,
-                                 ncc(from, a, ts, to, Pos{b.x, b.y + 1}, half));
+    double s[3][3];
+    for (std::int32_t dy = -1; dy <= 1; ++dy) {
+        for (std::int32_t dx = -1; dx <= 1; ++dx) {
+            s[dy + 1][dx + 1] = (dx == 0 && dy == 0) ? s0 : ncc(t, to, Pos{b.x + dx, b.y + dy}, half);
+        }
     }
-    return Vec2(static_cast<double>(b.x), static_cast<double>(b.y)) + off;
+    const double gx = 0.5 * (s[1][2] - s[1][0]);
+    const double gy = 0.5 * (s[2][1] - s[0][1]);
+    const double hxx = s[1][2] - 2.0 * s0 + s[1][0];
+    const double hyy = s[2][1] - 2.0 * s0 + s[0][1];
+    const double hxy = 0.25 * (s[2][2] - s[0][2] - s[2][0] + s[0][0]);
+    const double det = hxx * hyy - hxy * hxy;
+    Vec2 off(parabolaOffset(s[1][0], s0, s[1][2]), parabolaOffset(s[0][1], s0, s[2][1]));
+    if (hxx < 0.0 && det > 0.0) {  // negative definite: a maximum
+        off.x() = std::clamp(-(hyy * gx - hxy * gy) / det, -0.5, 0.5);
+        off.y() = std::clamp(-(hxx * gy - hxy * gx) / det, -0.5, 0.5);
+    }
+    return toVec(b) + off;
 }
 
 Pos levelPos(const Vec2& pixel, std::int32_t level) noexcept {
     return Pos{roundToInt(toLevel(pixel.x(), level)), roundToInt(toLevel(pixel.y(), level))};
 }
 
+// The coarsest level (<= both pyramids' depth) where the template fits around `pixel`.
+std::int32_t coarseLevel(const TemplateMatcher::Pyramid& from, const TemplateMatcher::Pyramid& to, const Vec2& pixel,
+                         std::int32_t half) noexcept {
+    std::int32_t level = std::min(from.levels, to.levels);
+    while (level >= 0 && !templateFits(from.level[level], levelPos(pixel, level), half)) {  // bound: <= kMaxPyramidLevels + 1
+        --level;
+    }
+    return level;
+}
+
+// State carried from level to level: where the feature itself lies in `to` (level
+// coordinates, subpixel) and the score there.
+struct Estimate {
+    Vec2 feature_to = Vec2::Zero();
+    double score = -2.0;
+    bool ok = false;
+};
+
+// Search at level l with the template of the ray sample nearest to the estimate (warp
+// hypothesis `hyp`), within `radius` of it; at level 0 the result is subpixel.
+struct RefineStep {
+    std::int32_t level;
+    std::int32_t radius;
+    std::int32_t hyp;
+};
+Estimate refineAt(const TemplateMatcher::Pyramid& from, const TemplateMatcher::Pyramid& to, const RaySamples& rs,
+                  const Vec2& pixel, const RefineStep& step, const Vec2& feature_to_l, std::int32_t half,
+                  TemplateBank& bank) noexcept {
+    const std::int32_t l = step.level;
+    Estimate e;
+    const Pos a = levelPos(pixel, l);
+    if (!templateFits(from.level[l], a, half)) {
+        return e;  // cannot happen: the template fits at a coarser level, so here too
+    }
+    const std::int32_t k_index =
+        step.hyp * kRaySamples + nearestOnPolyline(fromLevel(feature_to_l, l), rs.pixel, rs.n).vertex;
+    const auto k = static_cast<std::size_t>(k_index);
+    const Vec2 frac = toLevel(pixel, l) - toVec(a);  // feature minus template centre, level l
+    const Vec2 centre_to = feature_to_l - apply(rs.warp[k], frac);
+    const Pos predicted{roundToInt(centre_to.x()), roundToInt(centre_to.y())};
+    const Template t = buildTemplate(from.level[l], a, rs.unwarp[k], half,
+                                     bank.storage + kBankRefineSlot * bank.stride);
+    const Best best = localSearch(t, to.level[l], predicted, step.radius, half);
+    if (best.evaluated == 0) {
+        return e;
+    }
+    const Vec2 b = (l == 0) ? subpixel(t, to.level[0], best.pos, best.score, half) : toVec(best.pos);
+    e.feature_to = b + apply(rs.warp[k], frac);
+    e.score = best.score;
+    e.ok = true;
+    return e;
+}
+
 // The whole search of one point: region, coarse level, refinement, subpixel.
 SearchResult search(const TemplateMatcher::Pyramid& from, const TemplateMatcher::Pyramid& to, const Geometry& g,
-                    const Vec2& pixel, std::int32_t half) noexcept {
+                    const Vec2& pixel, std::int32_t half, TemplateBank& bank) noexcept {
     SearchResult r;
     r.outcome = Outcome::kNoRegion;
     const ImageView<const std::uint8_t>& img = from.level[0];
@@ -248,42 +630,43 @@ SearchResult search(const TemplateMatcher::Pyramid& from, const TemplateMatcher:
           pixel.y() <= static_cast<double>(img.height()) - 0.5)) {
         return r;  // outside its image (or NaN): no template
     }
-    Vec2 poly[kRaySamples];
-    const std::int32_t n = predictPolyline(g, pixel, poly);
-    std::int32_t level = std::min(from.levels, to.levels);
-    while (level >= 0 && !templateFits(from.level[level], levelPos(pixel, level), half)) {  // bound: <= kMaxPyramidLevels + 1
-        --level;
-    }
-    if (n == 0 || level < 0) {
+    RaySamples rs;
+    predictSamples(g, pixel, rs);
+    const std::int32_t level = coarseLevel(from, to, pixel, half);
+    if (rs.n == 0 || level < 0) {
         return r;
     }
-    for (std::int32_t i = 0; i < n; ++i) {
-        poly[i] = Vec2(toLevel(poly[i].x(), level), toLevel(poly[i].y(), level));
+    Vec2 poly[kRaySamples];
+    for (std::int32_t i = 0; i < rs.n; ++i) {
+        poly[i] = toLevel(rs.pixel[i], level);
+    }
+    for (bool& b : bank.built) {
+        b = false;
     }
     const double margin = g.margin_px / static_cast<double>(std::int32_t{1} << level) + 0.5;
-    Pos a = levelPos(pixel, level);
-    Best best = coarseSearch(from.level[level], a, to.level[level], poly, n, margin, half);
-    if (best.evaluated == 0) {
+    const LevelView v{&from.level[level], &to.level[level], levelPos(pixel, level), half};
+    const Best coarse = coarseSearch(v, rs, poly, margin, bank);
+    if (coarse.evaluated == 0) {
         return r;
     }
     r.outcome = Outcome::kNoMatch;
-    for (std::int32_t l = level - 1; l >= 0; --l) {
-        const Pos a_fine = levelPos(pixel, l);
-        if (!templateFits(from.level[l], a_fine, half)) {
-            return r;  // cannot happen: the template fits at a coarser level, so here too
-        }
-        const Pos predicted{a_fine.x + 2 * (best.pos.x - a.x), a_fine.y + 2 * (best.pos.y - a.y)};
-        best = localSearch(from.level[l], a_fine, to.level[l], predicted, kRefineRadius, half);
-        if (best.evaluated == 0) {
+    Estimate e;
+    e.feature_to = toVec(coarse.pos) + apply(rs.warp[coarse.sample], toLevel(pixel, level) - toVec(v.a));
+    // At the coarse level itself: closes the gaps of a strided search (radius = stride),
+    // or (radius 0) re-scores with the template of the sample nearest to the feature.
+    for (std::int32_t l = level; l >= 0; --l) {
+        const bool top = l == level;
+        const Vec2 predicted = top ? e.feature_to : Vec2(2.0 * e.feature_to.x() + 0.5, 2.0 * e.feature_to.y() + 0.5);
+        const RefineStep step{l, top ? (coarse.stride > 1 ? coarse.stride : 0) : kRefineRadius,
+                              coarse.sample / kRaySamples};
+        e = refineAt(from, to, rs, pixel, step, predicted, half, bank);
+        if (!e.ok) {
             return r;
         }
-        a = a_fine;
     }
-    const Vec2 b = subpixel(from.level[0], a, to.level[0], best.pos, best.score, half);
     r.outcome = Outcome::kFound;
-    r.score = best.score;
-    // The template was centred on the rounded feature position: carry its fraction over.
-    r.pixel = b + (pixel - Vec2(static_cast<double>(a.x), static_cast<double>(a.y)));
+    r.score = e.score;
+    r.pixel = e.feature_to;
     return r;
 }
 
@@ -293,6 +676,7 @@ Geometry inverseOf(const Geometry& g) noexcept {
     inv.to = g.from;
     inv.R_to_from = g.R_to_from.transpose();
     inv.t_to_from_m = -(inv.R_to_from * g.t_to_from_m);
+    inv.normal_from = g.R_to_from * g.normal_from;
     // Ranges along B's ray differ from A's by at most the distance between the projection
     // centres (triangle inequality); the lower end is kept away from B's centre.
     CameraRay ray_a, ray_b;
@@ -343,6 +727,12 @@ std::size_t pyramidBytes(const MatcherConfig& c) noexcept {
     }
     return total;
 }
+// Template bank: kWarpHypotheses * kRaySamples coarse templates + 1 refinement template,
+// window^2 values each.
+std::size_t bankValues(const MatcherConfig& c) noexcept {
+    const auto w = static_cast<std::size_t>(c.template_window);
+    return static_cast<std::size_t>(kWarpHypotheses * kRaySamples + 1) * w * w;
+}
 }  // namespace
 
 std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcept {
@@ -350,8 +740,10 @@ std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcep
         return 0U;
     }
     const std::size_t bytes = pyramidBytes(config);
-    // Pyramid levels 1..L of A, then of B (one block each; an empty block still pads).
-    return 2U * Arena::blockBytes(bytes == 0U ? 1U : bytes);
+    // Pyramid levels 1..L of A, then of B (one block each; an empty block still pads),
+    // then the template bank.
+    return 2U * Arena::blockBytes(bytes == 0U ? 1U : bytes) +
+           Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t));
 }
 
 Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept {
@@ -360,7 +752,8 @@ Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept
     const std::size_t bytes = pyramidBytes(config);
     storageA_ = arena.allocateArray<std::uint8_t>(bytes == 0U ? 1U : bytes);
     storageB_ = arena.allocateArray<std::uint8_t>(bytes == 0U ? 1U : bytes);
-    if (storageA_.empty() || storageB_.empty()) {
+    bank_ = arena.allocateArray<std::uint16_t>(bankValues(config));
+    if (storageA_.empty() || storageB_.empty() || bank_.empty()) {
         return Status(StatusCode::kOutOfMemory, "TemplateMatcher::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
@@ -438,6 +831,11 @@ Status checkInputs(const MatcherConfig& c, const ImageView<const std::uint8_t>& 
     if (!(math::isFinite(p.margin_px) && p.margin_px >= 0.0)) {
         return Status(StatusCode::kInvalidArgument, "MatchPrediction.margin_px: must be >= 0 and finite");
     }
+    const double n2 = p.surface_normal_a.squaredNorm();
+    if (!(math::isFinite(n2) && (n2 == 0.0 || (n2 >= 0.25 && n2 <= 4.0)))) {
+        return Status(StatusCode::kInvalidArgument,
+                      "MatchPrediction.surface_normal_a: must be zero or a finite vector of norm 0.5..2");
+    }
     if (features_a.count < 0 || features_a.count > kMaxFeatures) {
         return Status(StatusCode::kInvalidArgument, "features_a.count: must be 0..kMaxFeatures", features_a.count);
     }
@@ -468,13 +866,20 @@ Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
     forward.range_min_m = prediction.range_min_m;
     forward.range_max_m = prediction.range_max_m;
     forward.margin_px = prediction.margin_px;
-    const Geometry backward = inverseOf(forward);
+    const double n2 = prediction.surface_normal_a.squaredNorm();
+    forward.normal_from = (n2 > 0.0) ? Vec3(prediction.surface_normal_a / math::sqrt(n2)) : Vec3::Zero();
+    setAxis(forward);
+    Geometry backward = inverseOf(forward);
+    setAxis(backward);
     const std::int32_t half = config_.template_window / 2;
+    TemplateBank bank;
+    bank.storage = bank_.data();
+    bank.stride = static_cast<std::size_t>(config_.template_window) * static_cast<std::size_t>(config_.template_window);
     const auto tolerance = static_cast<double>(config_.mutual_tolerance_px);
     for (std::int32_t i = 0; i < features_a.count; ++i) {
         const Vec2& pixel_a = features_a.items[i].pixel;
         ++st.attempted;
-        const SearchResult fwd = search(pa, pb, forward, pixel_a, half);
+        const SearchResult fwd = search(pa, pb, forward, pixel_a, half, bank);
         if (fwd.outcome == Outcome::kNoRegion) {
             ++st.no_region;
             continue;
@@ -483,7 +888,7 @@ Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
             ++st.low_score;
             continue;
         }
-        const SearchResult back = search(pb, pa, backward, fwd.pixel, half);
+        const SearchResult back = search(pb, pa, backward, fwd.pixel, half, bank);
         if (back.outcome != Outcome::kFound || (back.pixel - pixel_a).norm() > tolerance) {
             ++st.not_mutual;
             continue;

@@ -3,3 +3,4 @@
 
 #include "vtm/features/forstner.hpp"
 #include "vtm/features/template_matcher.hpp"
+#include "vtm/features/visibility.hpp"

@@ -90,8 +90,12 @@ public:
     // empty view; kSizeMismatch when the image exceeds the capacity or is smaller than
     // 2 * border_px + 3 in either direction. A texture-less image gives ok() and count 0.
     // `out` is fully rewritten on success (count = 0 on failure).
+    // mask (optional, the image's size, else kSizeMismatch): features only where it is
+    // nonzero, e.g. the part of image A that image B can see (predictVisibility in
+    // visibility.hpp); the grid then spreads them over that part only.
     [[nodiscard]] Status detect(const ImageView<const std::uint8_t>& image, FeatureSet& out,
-                                DetectorStats* stats = nullptr) noexcept;
+                                DetectorStats* stats = nullptr,
+                                const ImageView<const std::uint8_t>& mask = {}) noexcept;
 
     [[nodiscard]] const DetectorConfig& config() const noexcept { return config_; }
 
@@ -105,7 +109,8 @@ public:
 
 private:
     void computeStrength(const ImageView<const std::uint8_t>& image) noexcept;
-    [[nodiscard]] std::int32_t selectCandidates(std::int32_t width, std::int32_t height) noexcept;
+    [[nodiscard]] std::int32_t selectCandidates(std::int32_t width, std::int32_t height,
+                                                const ImageView<const std::uint8_t>& mask) noexcept;
     void emitFeatures(FeatureSet& out) noexcept;
     [[nodiscard]] Vec2 subpixelOffset(const ImageView<const std::uint8_t>& image, std::int32_t x,
                                       std::int32_t y, std::int32_t width) const noexcept;

@@ -7,20 +7,30 @@
 // A feature's range is the distance along A's back-projected ray from the ray's origin.
 //
 // Per feature (all bounded, see the constants below):
-//  1. Region: A's ray at kRaySamples ranges, uniform in 1/range over [range_min_m,
-//     range_max_m], projected into B (samples that do not project are dropped): a polyline,
-//     widened by margin_px; clipped to B's image.
-//  2. Coarse search: every pixel of the region at the coarsest usable pyramid level (2x2
-//     averaging, pyramid_levels halvings; a level is usable when the template fits
-//     around the feature), at most kMaxCoarseCandidates positions in raster order.
-//  3. Refinement at each finer level: +-kRefineRadius px around the position the coarser
-//     level predicts; at full resolution a parabola through the NCC in x and in y gives the
-//     subpixel position (vertex clamped to +-0.5 px).
-//  4. Mutual check: B's point is searched back in A by the same steps with the inverse pose
-//     and B's ray (ranges widened by the baseline); the result must lie within
-//     mutual_tolerance_px of the feature.
+//  1. Region: A's ray over [range_min_m, range_max_m] projected into B: the part whose
+//     image meets B's image widened by margin_px (found by a scan of 129 points), sampled
+//     at kRaySamples points evenly spaced along its image (a projective parameter: exact
+//     for a pinhole), a polyline widened by margin_px, clipped to B's image.
+//  2. Warps: at each sample the local affine map M from A-pixel offsets to B-pixel
+//     offsets induced by a plane through the sample's 3D point (M = J_b J_a^-1, from
+//     projectPoint of the point and two points 1 % of the range away in the plane):
+//     the terrain plane (prediction.surface_normal_a) and the plane perpendicular to A's
+//     ray; without a normal only the latter. A's template is pre-warped into B's geometry,
+//     T(u) = A(a + M^-1 u) (bilinear, weights in 1/256), at each pyramid level.
+//  3. Coarse search: the region at the coarsest usable pyramid level (2x2 averaging,
+//     pyramid_levels halvings; usable when the template fits around the feature); each
+//     position is scored with the templates of its nearest ray sample (both warps, the
+//     best counts). A region with more than kMaxCoarseCandidates positions in its box is
+//     searched on the smallest stride s that fits (all of it, never cut off), and the
+//     best position then re-searched within +-s at the same level.
+//  4. Refinement at each finer level: +-kRefineRadius px around the prediction, with the
+//     winning warp of the nearest sample; at full resolution a 2D quadratic through the
+//     3x3 NCC neighbourhood gives the subpixel position (vertex clamped to +-0.5 px).
+//  5. Mutual check: B's point is searched back in A by the same steps with the inverse
+//     pose, B's ray (ranges widened by the baseline) and the normal rotated into B; the
+//     result must lie within mutual_tolerance_px of the feature.
 // NCC is computed from exact integer sums with one correctly rounded sqrt: the same bits
-// on every target. Pyramids live in the workspace and are rebuilt by every match() call.
+// on every target. Pyramids and the template bank live in the workspace.
 #pragma once
 
 #include <cstddef>
@@ -37,8 +47,8 @@
 namespace vtm::features {
 
 constexpr std::int32_t kMaxPyramidLevels = 4;
-constexpr std::int32_t kRaySamples = 33;               // range samples along A's ray
-constexpr std::int32_t kMaxCoarseCandidates = 16384;   // NCC positions per feature at the coarse level
+constexpr std::int32_t kRaySamples = 33;               // samples along the image of A's ray
+constexpr std::int32_t kMaxCoarseCandidates = 16384;   // grid positions per region box (else strided)
 constexpr std::int32_t kRefineRadius = 2;              // +-px searched at each finer level
 
 // The search region in B for a feature of A.
@@ -49,6 +59,10 @@ struct MatchPrediction {
     Vec3 t_b_from_a_m = Vec3::Zero();                 // from odometry
     double range_min_m = 1.0, range_max_m = 100.0;    // along A's ray; 0 < min < max, finite
     double margin_px = 40.0;                          // odometry uncertainty around the predicted segment, >= 0
+    // Unit normal of the local terrain (site "up") in A's reference frame, from the
+    // attitude; templates are warped for this plane. Zero = unknown: the plane
+    // perpendicular to A's ray (fronto-parallel) is used. Finite; zero or norm 0.5..2.
+    Vec3 surface_normal_a = Vec3::Zero();
 };
 
 // pixel_a: the feature's (subpixel) position in A; pixel_b: its match in B (subpixel);
@@ -81,13 +95,14 @@ struct MatchStats {
 
 class TemplateMatcher {
 public:
-    // Arena bytes init() takes (both pyramids), 0 for an invalid configuration.
+    // Arena bytes init() takes (both pyramids, the template bank), 0 for an invalid configuration.
     [[nodiscard]] static std::size_t workspaceBytes(const MatcherConfig& config) noexcept;
     [[nodiscard]] Status init(const MatcherConfig& config, Arena& arena) noexcept;
     // Matches features_a (found in image_a) into image_b. Errors (out.count = 0):
     // kNotInitialized; kInvalidArgument: an empty image, a null model, features_a.count
     // outside 0..kMaxFeatures, range_min_m <= 0, range_min_m >= range_max_m, a non-finite
-    // range or margin, margin_px < 0; kSizeMismatch: an image over the capacity, or a
+    // range or margin, margin_px < 0, surface_normal_a neither zero nor of norm 0.5..2
+    // (it is normalised); kSizeMismatch: an image over the capacity, or a
     // model whose width_px/height_px differ from its image. A feature without a match is
     // not an error: it is counted in stats.
     [[nodiscard]] Status match(const ImageView<const std::uint8_t>& image_a,
@@ -111,6 +126,7 @@ private:
     bool initialized_ = false;
     Span<std::uint8_t> storageA_{};
     Span<std::uint8_t> storageB_{};
+    Span<std::uint16_t> bank_{};  // warped templates of one search (see the .cpp)
 };
 
 }  // namespace vtm::features
