@@ -3,6 +3,8 @@
 //   vtm version    version only
 //   vtm budget     the static memory budget of the flight build
 //   vtm stereo     dense disparity of a rectified pair (stereo_command.hpp)
+//   vtm refine     refined relative motion of a wide-baseline pair (wide_baseline_command.hpp)
+//   vtm rectify    rectified pair from two images and their poses (wide_baseline_command.hpp)
 //   vtm descent    elevation map from two descent images (descent_command.hpp)
 //   vtm eval       accuracy of a disparity map against ground truth (eval_command.hpp)
 // docs/tools.md describes the commands, the file formats and the exit codes.
@@ -15,6 +17,7 @@
 #include "exit_codes.hpp"
 #include "memory_budget.hpp"
 #include "stereo_command.hpp"
+#include "wide_baseline_command.hpp"
 #include "descent_command.hpp"
 
 namespace {
@@ -62,6 +65,10 @@ int main(int argc, char** argv) {
     CLI::App* budget = app.add_subcommand("budget", "print the static memory budget of the flight build");
     vtm::tools::StereoOptions stereo_options;
     CLI::App* stereo = vtm::tools::addStereoCommand(app, stereo_options);
+    vtm::tools::WideBaselineOptions refine_options;
+    CLI::App* refine = vtm::tools::addRefineCommand(app, refine_options);
+    vtm::tools::WideBaselineOptions rectify_options;
+    CLI::App* rectify = vtm::tools::addRectifyCommand(app, rectify_options);
     vtm::tools::DescentOptions descent_options;
     CLI::App* descent = vtm::tools::addDescentCommand(app, descent_options);
     vtm::tools::EvalOptions eval_options;
@@ -86,6 +93,12 @@ int main(int argc, char** argv) {
     }
     if (stereo->parsed()) {
         return vtm::tools::runStereo(stereo_options);
+    }
+    if (refine->parsed()) {
+        return vtm::tools::runRefine(refine_options);
+    }
+    if (rectify->parsed()) {
+        return vtm::tools::runRectify(rectify_options);
     }
     if (descent->parsed()) {
         return vtm::tools::runDescent(descent_options);

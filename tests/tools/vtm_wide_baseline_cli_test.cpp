@@ -1,0 +1,229 @@
+// `vtm refine` and `vtm rectify` as a user runs them on vtm-sim's files: a rover pair is
+// rendered, camera 2's pose is spoiled the way odometry spoils it (2 deg of heading, 5 % of
+// the baseline sideways), vtm refine must bring it back near the truth, and vtm rectify
+// must write a rectified pair whose true correspondences share their rows. Bad inputs exit
+// non-zero with one line naming the input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "ground_test_files.hpp"
+#include "vtm/core/camera_model.hpp"
+#include "vtm/core/eigen.hpp"
+#include "vtm/ground/camera_model_io.hpp"
+#include "vtm/ground/image_io.hpp"
+#include "vtm/ground/pfm.hpp"
+#include "vtm/ground/sim_output.hpp"
+
+namespace vtm::ground {
+namespace {
+
+struct CommandRun {
+    int exit_code = -1;
+    std::string out;
+    std::string err;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+CommandRun runTool(const test::TempDir& dir, const char* exe, const std::string& args) {
+    const std::string out = dir.file("stdout.txt");
+    const std::string err = dir.file("stderr.txt");
+    const std::string cmd = std::string("'") + exe + "' " + args + " >'" + out + "' 2>'" + err + "'";
+    const int status = std::system(cmd.c_str());
+    CommandRun r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+Mat3 rotationOf(const SimCameraPose& p) {
+    return Quat(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]).toRotationMatrix();
+}
+Vec3 positionOf(const SimCameraPose& p) { return Vec3(p.position_m[0], p.position_m[1], p.position_m[2]); }
+
+double angleDeg(const Mat3& a, const Mat3& b) {
+    const double c = std::fmax(-1.0, std::fmin(1.0, 0.5 * ((a.transpose() * b).trace() - 1.0)));
+    return std::acos(c) * 57.29577951308232;
+}
+
+// Relative pose X_2 = R X_1 + t of two camera poses.
+void relative(const SimCameraPose& p1, const SimCameraPose& p2, Mat3& R, Vec3& t) {
+    R = rotationOf(p2).transpose() * rotationOf(p1);
+    t = rotationOf(p2).transpose() * (positionOf(p1) - positionOf(p2));
+}
+
+// A 512 x 512 rover pair 2 m apart (rover_wide_baseline's world), rendered once.
+class WideBaselineCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new test::TempDir();
+        // The shipped rover scenario, smaller: 512 x 512, 2 m apart, 10 deg toed in, the mast
+        // tilted so that both axes meet the ground where they converge (11.4 m).
+        std::string scn = slurp(std::string(VTM_SCENARIO_DIR) + "/rover_wide_baseline.scn");
+        const std::pair<const char*, const char*> edits[] = {{"width_px 1024", "width_px 512"},
+                                                             {"height_px 1024", "height_px 512"},
+                                                             {"\nbaseline_m 5", "\nbaseline_m 2"},
+                                                             {"mount_tilt_deg -18", "mount_tilt_deg -9.5"}};
+        for (const auto& [from, to] : edits) {
+            const std::size_t at = scn.find(from);
+            ASSERT_NE(at, std::string::npos) << from;
+            scn.replace(at, std::string(from).size(), to);
+        }
+        std::ofstream(dir_->file("pair.scn")) << scn;
+        const CommandRun r =
+            runTool(*dir_, VTM_SIM_EXECUTABLE, "render '" + dir_->file("pair.scn") + "' '" + dir_->file("sim") + "' --frames 0,1");
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    static void TearDownTestSuite() {
+        delete dir_;
+        dir_ = nullptr;
+    }
+    static std::string sim(const std::string& name) { return dir_->file("sim/" + name); }
+    static test::TempDir* dir_;
+};
+test::TempDir* WideBaselineCli::dir_ = nullptr;
+
+TEST_F(WideBaselineCli, RefineBringsASpoiledOdometryPoseBackToTheTruth) {
+    auto p1 = readCameraPoseSpec(sim("camera_poses.txt:0"));
+    auto p2 = readCameraPoseSpec(sim("camera_poses.txt:1"));
+    ASSERT_TRUE(p1.ok && p2.ok) << p1.error << p2.error;
+    // Odometry-like error on camera 2: 2 deg of heading (about the site's vertical) and 5 %
+    // of the baseline sideways.
+    SimCameraPose spoiled = p2.value;
+    const Mat3 yaw = Eigen::AngleAxisd(2.0 / 57.29577951308232, Vec3::UnitZ()).toRotationMatrix();
+    const Quat q(yaw * rotationOf(p2.value));
+    spoiled.attitude_wxyz[0] = q.w();
+    spoiled.attitude_wxyz[1] = q.x();
+    spoiled.attitude_wxyz[2] = q.y();
+    spoiled.attitude_wxyz[3] = q.z();
+    const Vec3 base = positionOf(p2.value) - positionOf(p1.value);
+    const Vec3 side = base.cross(Vec3::UnitZ()).normalized() * (0.05 * base.norm());
+    for (int i = 0; i < 3; ++i) spoiled.position_m[i] += side[i];
+    std::ofstream(dir_->file("odometry2.txt")) << formatCameraPoses({spoiled});
+
+    const CommandRun r = runTool(*dir_, VTM_EXECUTABLE,
+                                 "refine '" + sim("mast_000.png") + "' '" + sim("mast_001.png") + "' --camera '" +
+                                     sim("mast.cmod") + "' --pose1 '" + sim("camera_poses.txt") + ":0' --pose2 '" +
+                                     dir_->file("odometry2.txt") + "' --range 1:1000 --out '" +
+                                     dir_->file("refined.txt") + "' --report '" + dir_->file("refine.md") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(slurp(dir_->file("refine.md")).find("inliers"), std::string::npos);
+    auto q1 = readCameraPoseSpec(dir_->file("refined.txt") + ":0");
+    auto q2 = readCameraPoseSpec(dir_->file("refined.txt") + ":1");
+    ASSERT_TRUE(q1.ok && q2.ok) << q1.error << q2.error;
+    Mat3 R_true, R_odo, R_ref;
+    Vec3 t_true, t_odo, t_ref;
+    relative(p1.value, p2.value, R_true, t_true);
+    relative(p1.value, spoiled, R_odo, t_odo);
+    relative(q1.value, q2.value, R_ref, t_ref);
+    const double rot_before = angleDeg(R_true, R_odo);
+    const double rot_after = angleDeg(R_true, R_ref);
+    const double dir_before = std::acos(t_true.normalized().dot(t_odo.normalized())) * 57.29577951308232;
+    const double dir_after = std::acos(std::fmin(1.0, t_true.normalized().dot(t_ref.normalized()))) * 57.29577951308232;
+    std::printf("rotation error %.3f -> %.3f deg, direction error %.3f -> %.3f deg\n", rot_before, rot_after,
+                dir_before, dir_after);
+    EXPECT_GT(rot_before, 1.9);
+    EXPECT_LT(rot_after, 0.1);
+    EXPECT_LT(dir_after, 0.25 * dir_before);
+    // The baseline length is the odometry's (not observable from images).
+    EXPECT_NEAR(t_ref.norm(), t_odo.norm(), 1e-9);
+}
+
+TEST_F(WideBaselineCli, RectifyWritesAPairWhoseTrueCorrespondencesShareTheirRows) {
+    const CommandRun r = runTool(*dir_, VTM_EXECUTABLE,
+                                 "rectify '" + sim("mast_000.png") + "' '" + sim("mast_001.png") + "' --camera '" +
+                                     sim("mast.cmod") + "' --pose1 '" + sim("camera_poses.txt") + ":0' --pose2 '" +
+                                     sim("camera_poses.txt") + ":1' --range 1:100000 --out-dir '" + dir_->file("rect") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    auto img1 = loadGrey8(dir_->file("rect/rectified1.png"));
+    auto img2 = loadGrey8(dir_->file("rect/rectified2.png"));
+    ASSERT_TRUE(img1.ok && img2.ok) << img1.error << img2.error;
+    CameraModel m1{};
+    CameraModel m2{};
+    ASSERT_TRUE(readCameraModelFile(dir_->file("rect/rectified1.cmod"), m1).ok);
+    ASSERT_TRUE(readCameraModelFile(dir_->file("rect/rectified2.cmod"), m2).ok);
+    auto r1 = readCameraPoseSpec(dir_->file("rect/rectified_poses.txt:0"));
+    auto r2 = readCameraPoseSpec(dir_->file("rect/rectified_poses.txt:1"));
+    ASSERT_TRUE(r1.ok && r2.ok);
+    // True 3-D points (from the renderer's depth of image 1) land on the same row of both
+    // rectified images, and their disparity lies in the reported range.
+    auto p1 = readCameraPoseSpec(sim("camera_poses.txt:0"));
+    auto depth = readPfm(sim("mast_000_depth.pfm"));
+    CameraModel raw{};
+    ASSERT_TRUE(p1.ok && depth.ok && readCameraModelFile(sim("mast.cmod"), raw).ok);
+    const std::string report = slurp(dir_->file("rect/report.md"));
+    int d_min = 0, d_max = 0;
+    const std::size_t at = report.find("| disparity range");
+    ASSERT_NE(at, std::string::npos) << report;
+    ASSERT_EQ(std::sscanf(report.c_str() + report.find("| ", at + 3) + 2, "%d:%d", &d_min, &d_max), 2) << report;
+    double sum2 = 0.0;
+    int n = 0;
+    int in_range = 0;
+    for (int y = 20; y < raw.height_px; y += 20) {
+        for (int x = 20; x < raw.width_px; x += 20) {
+            const float z = depth.value.at(x, y);
+            if (!std::isfinite(z)) continue;
+            CameraRay ray;
+            ASSERT_TRUE(backProjectPixel(raw, Vec2(x, y), ray).isOk());
+            const Vec3 p_site = positionOf(p1.value) +
+                                rotationOf(p1.value) * (ray.origin_m + ray.direction * (static_cast<double>(z) / ray.direction.z()));
+            Vec2 a, b;
+            const Vec3 pa = rotationOf(r1.value).transpose() * (p_site - positionOf(r1.value));
+            const Vec3 pb = rotationOf(r2.value).transpose() * (p_site - positionOf(r2.value));
+            if (!projectPoint(m1, pa, a).isOk() || !projectPoint(m2, pb, b).isOk()) continue;
+            sum2 += (a.y() - b.y()) * (a.y() - b.y());
+            ++n;
+            const double d = a.x() - b.x();
+            in_range += (d >= d_min && d <= d_max) ? 1 : 0;
+        }
+    }
+    ASSERT_GT(n, 100);
+    EXPECT_LT(std::sqrt(sum2 / n), 1e-6) << "vertical disparity of true points, px";
+    EXPECT_EQ(in_range, n) << "disparities outside the reported range " << d_min << ":" << d_max;
+}
+
+TEST_F(WideBaselineCli, BadInputsExitNonZeroWithOneLineNamingTheInput) {
+    const std::string pair = "'" + sim("mast_000.png") + "' '" + sim("mast_001.png") + "' ";
+    const std::string cam = "--camera '" + sim("mast.cmod") + "' ";
+    const std::string poses = "--pose1 '" + sim("camera_poses.txt") + ":0' --pose2 '" + sim("camera_poses.txt") + ":1' ";
+    struct Case {
+        std::string args;
+        int code;
+        std::string says;
+    };
+    const Case cases[] = {
+        {"refine " + pair + cam + poses + "--range 5:1 --out x.txt", 2, "--range '5:1'"},
+        {"refine " + pair + cam + "--pose1 '" + sim("camera_poses.txt") + ":9' --pose2 '" + sim("camera_poses.txt") +
+             ":1' --out x.txt",
+         1, "no pose with frame index 9"},
+        {"rectify " + pair + "--camera '" + dir_->file("missing.cmod") + "' " + poses + "--out-dir o", 1, "missing.cmod"},
+        {"rectify " + pair + cam + "--pose1 '" + sim("camera_poses.txt") + ":0' --pose2 '" + sim("camera_poses.txt") +
+             ":0' --out-dir o",
+         1, "no baseline"},
+        {"refine '" + sim("mast_000_depth.pfm") + "' '" + sim("mast_001.png") + "' " + cam + poses + "--out x.txt", 1,
+         "mast_000_depth.pfm"},
+    };
+    for (const Case& c : cases) {
+        const CommandRun r = runTool(*dir_, VTM_EXECUTABLE, c.args);
+        EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.err;
+        EXPECT_NE(r.err.find(c.says), std::string::npos) << c.args << "\n" << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+}
+
+}  // namespace
+}  // namespace vtm::ground

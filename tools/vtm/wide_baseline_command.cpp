@@ -1,0 +1,499 @@
+#include "wide_baseline_command.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "exit_codes.hpp"
+#include "vtm/core/arena.hpp"
+#include "vtm/core/eigen.hpp"
+#include "vtm/features/features.hpp"
+#include "vtm/ground/camera_model_io.hpp"
+#include "vtm/ground/image_io.hpp"
+#include "vtm/ground/sim_output.hpp"
+#include "vtm/motion/motion_refiner.hpp"
+#include "vtm/rectify/linear_camera.hpp"
+#include "vtm/rectify/rectifier.hpp"
+
+namespace vtm::tools {
+namespace {
+
+using ground::GreyImage;
+using ground::SimCameraPose;
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+// Everything both commands read: the pair, the models and the poses.
+struct PairInputs {
+    GreyImage image1;
+    GreyImage image2;
+    CameraModel model1{};
+    CameraModel model2{};
+    SimCameraPose pose1;
+    SimCameraPose pose2;
+    double range_min_m = 0.0;
+    double range_max_m = 0.0;
+    Mat3 R_2_from_1 = Mat3::Identity();  // X_2 = R X_1 + t (camera reference frames)
+    Vec3 t_2_from_1_m = Vec3::Zero();
+};
+
+Mat3 rotationOf(const SimCameraPose& p) {
+    const Quat q(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
+    return q.normalized().toRotationMatrix();
+}
+
+Vec3 positionOf(const SimCameraPose& p) { return Vec3(p.position_m[0], p.position_m[1], p.position_m[2]); }
+
+void setPose(SimCameraPose& p, const Mat3& R_site_from_ref, const Vec3& position_site_m) {
+    const Quat q(R_site_from_ref);
+    p.attitude_wxyz[0] = q.w();
+    p.attitude_wxyz[1] = q.x();
+    p.attitude_wxyz[2] = q.y();
+    p.attitude_wxyz[3] = q.z();
+    for (int i = 0; i < 3; ++i) p.position_m[i] = position_site_m[i];
+}
+
+std::string sizeText(const GreyImage& img) { return std::to_string(img.width) + "x" + std::to_string(img.height); }
+
+// "MIN:MAX" metres, 0 < MIN < MAX; "" or the error.
+std::string parseRange(const std::string& text, double& lo, double& hi) {
+    const std::size_t colon = text.find(':');
+    char* end1 = nullptr;
+    char* end2 = nullptr;
+    if (colon != std::string::npos) {
+        const std::string a = text.substr(0, colon);
+        const std::string b = text.substr(colon + 1);
+        lo = std::strtod(a.c_str(), &end1);
+        hi = std::strtod(b.c_str(), &end2);
+        if (!a.empty() && !b.empty() && *end1 == '\0' && *end2 == '\0' && std::isfinite(lo) && std::isfinite(hi) &&
+            lo > 0.0 && hi > lo) {
+            return "";
+        }
+    }
+    return "--range '" + text + "': expected MIN:MAX in metres with 0 < MIN < MAX, e.g. 1:1000";
+}
+
+std::string checkImageMatchesModel(const std::string& path, const GreyImage& img, const CameraModel& m,
+                                   const std::string& camera_path) {
+    if (img.width == m.width_px && img.height == m.height_px) return "";
+    return path + " is " + sizeText(img) + " but its camera model " + camera_path + " is " +
+           std::to_string(m.width_px) + "x" + std::to_string(m.height_px);
+}
+
+// Loads and checks every input; "" or the one-line error naming the input.
+std::string loadPair(const WideBaselineOptions& o, PairInputs& in) {
+    std::string e = parseRange(o.range, in.range_min_m, in.range_max_m);
+    if (!e.empty()) return e;
+    auto a = ground::loadGrey8(o.image1);
+    if (!a.ok) return a.error;
+    auto b = ground::loadGrey8(o.image2);
+    if (!b.ok) return b.error;
+    in.image1 = std::move(a.value);
+    in.image2 = std::move(b.value);
+    ground::Outcome m = ground::readCameraModelFile(o.camera, in.model1);
+    if (!m.ok) return m.error;
+    const std::string camera2 = o.camera2.empty() ? o.camera : o.camera2;
+    m = ground::readCameraModelFile(camera2, in.model2);
+    if (!m.ok) return m.error;
+    e = checkImageMatchesModel(o.image1, in.image1, in.model1, o.camera);
+    if (e.empty()) e = checkImageMatchesModel(o.image2, in.image2, in.model2, camera2);
+    if (!e.empty()) return e;
+    auto p1 = ground::readCameraPoseSpec(o.pose1);
+    if (!p1.ok) return "--pose1 " + p1.error;
+    auto p2 = ground::readCameraPoseSpec(o.pose2);
+    if (!p2.ok) return "--pose2 " + p2.error;
+    in.pose1 = p1.value;
+    in.pose2 = p2.value;
+    const Mat3 R1 = rotationOf(in.pose1);
+    const Mat3 R2 = rotationOf(in.pose2);
+    in.R_2_from_1 = R2.transpose() * R1;
+    in.t_2_from_1_m = R2.transpose() * (positionOf(in.pose1) - positionOf(in.pose2));
+    if (!(in.t_2_from_1_m.norm() > 1e-6)) {
+        return "--pose1 and --pose2 put both cameras at the same place: no baseline";
+    }
+    return "";
+}
+
+std::string statusText(const char* what, const Status& s) {
+    return std::string(what) + ": " + s.reason() + " (" + std::to_string(s.detail()) + ")";
+}
+
+int fail(const char* command, int code, const std::string& message) {
+    std::fprintf(stderr, "vtm %s: %s\n", command, message.c_str());
+    return code;
+}
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ---- vtm refine ----------------------------------------------------------------------
+
+struct RefineRun {
+    std::unique_ptr<features::FeatureSet> features = std::make_unique<features::FeatureSet>();
+    std::unique_ptr<features::MatchSet> matches = std::make_unique<features::MatchSet>();
+    features::DetectorStats detector_stats;
+    features::MatchStats match_stats;
+    motion::MotionResult result;
+    std::vector<std::uint8_t> inlier;
+    double detect_s = 0.0;
+    double match_s = 0.0;
+    double refine_s = 0.0;
+};
+
+std::string detectAndMatch(const WideBaselineOptions& o, const PairInputs& in, RefineRun& run) {
+    features::DetectorConfig dc;
+    dc.max_width = in.image1.width;
+    dc.max_height = in.image1.height;
+    features::MatcherConfig mc;
+    mc.max_width = std::max(in.image1.width, in.image2.width);
+    mc.max_height = std::max(in.image1.height, in.image2.height);
+    std::vector<std::byte> pool(features::ForstnerDetector::workspaceBytes(dc) +
+                                features::TemplateMatcher::workspaceBytes(mc));
+    Arena arena(pool.data(), pool.size());
+    features::ForstnerDetector detector;
+    features::TemplateMatcher matcher;
+    Status s = detector.init(dc, arena);
+    if (!s.isOk()) return statusText("ForstnerDetector::init", s);
+    s = matcher.init(mc, arena);
+    if (!s.isOk()) return statusText("TemplateMatcher::init", s);
+    features::MatchPrediction p;
+    p.model_a = &in.model1;
+    p.model_b = &in.model2;
+    p.R_b_from_a = in.R_2_from_1;
+    p.t_b_from_a_m = in.t_2_from_1_m;
+    p.range_min_m = in.range_min_m;
+    p.range_max_m = in.range_max_m;
+    p.margin_px = o.margin_px;
+    // The site's up (-z) seen from camera 1 (its attitude is known far better than its
+    // position): the local terrain's normal for the template warp, and the ground plane of
+    // the visibility mask.
+    p.surface_normal_a = rotationOf(in.pose1).transpose() * Vec3(0.0, 0.0, -1.0);
+    GreyImage mask;
+    if (o.mast_height_m > 0.0) {
+        mask = GreyImage(in.image1.width, in.image1.height);
+        features::VisibilityPrior prior;
+        prior.up_a = p.surface_normal_a;
+        prior.camera_height_m = o.mast_height_m;
+        std::int64_t visible = 0;
+        s = features::predictVisibility(p, prior, mask.view(), visible);
+        if (!s.isOk()) return statusText("predictVisibility", s);
+        if (visible == 0) return "camera 2 sees no part of image 1 according to the poses and --mast-height";
+    }
+    auto t0 = std::chrono::steady_clock::now();
+    s = detector.detect(in.image1.view(), *run.features, &run.detector_stats,
+                        mask.pixels.empty() ? ImageView<const std::uint8_t>() : mask.view());
+    run.detect_s = seconds(t0);
+    if (!s.isOk()) return statusText("ForstnerDetector::detect", s);
+    t0 = std::chrono::steady_clock::now();
+    s = matcher.match(in.image1.view(), in.image2.view(), *run.features, p, *run.matches, &run.match_stats);
+    run.match_s = seconds(t0);
+    return s.isOk() ? "" : statusText("TemplateMatcher::match", s);
+}
+
+std::string refineMotion(const PairInputs& in, RefineRun& run) {
+    const std::size_t n = static_cast<std::size_t>(run.matches->count);
+    std::vector<Vec2> pa(n);
+    std::vector<Vec2> pb(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        pa[i] = run.matches->items[i].pixel_a;
+        pb[i] = run.matches->items[i].pixel_b;
+    }
+    run.inlier.assign(n, 0U);
+    motion::MotionInput mi;
+    mi.model_a = &in.model1;
+    mi.model_b = &in.model2;
+    mi.R_b_from_a = in.R_2_from_1;
+    mi.t_b_from_a_m = in.t_2_from_1_m;
+    mi.pixels_a = Span<const Vec2>(pa.data(), n);
+    mi.pixels_b = Span<const Vec2>(pb.data(), n);
+    motion::MotionConfig mc;
+    mc.range_min_m = std::min(in.range_min_m, mc.range_min_m);
+    mc.range_max_m = std::max(in.range_max_m, mc.range_max_m);
+    static motion::MotionRefiner refiner;  // large fixed-size members
+    const auto t0 = std::chrono::steady_clock::now();
+    const Status s = refiner.refine(mi, mc, run.result, Span<std::uint8_t>(run.inlier.data(), n));
+    run.refine_s = seconds(t0);
+    return s.isOk() ? "" : statusText("MotionRefiner::refine", s);
+}
+
+// The refined pose of camera 2: camera 1 stays where it was, the baseline keeps its length.
+SimCameraPose refinedPose2(const PairInputs& in, const motion::MotionResult& r) {
+    const Mat3 R1 = rotationOf(in.pose1);
+    const Mat3 R2 = R1 * r.R_b_from_a.transpose();
+    const Vec3 c2 = positionOf(in.pose1) - R2 * r.t_b_from_a_m;
+    SimCameraPose p = in.pose2;
+    setPose(p, R2, c2);
+    return p;
+}
+
+std::string writeMatches(const std::string& path, const RefineRun& run) {
+    if (path.empty()) return "";
+    std::ofstream f(path);
+    f << "# vtm refine matches: x1 y1 x2 y2 ncc inlier (pixels, (0,0) = centre of the top-left pixel)\n";
+    char line[160];
+    for (std::int32_t i = 0; i < run.matches->count; ++i) {
+        const features::Match& m = run.matches->items[i];
+        std::snprintf(line, sizeof line, "%.3f %.3f %.3f %.3f %.4f %d\n", m.pixel_a.x(), m.pixel_a.y(),
+                      m.pixel_b.x(), m.pixel_b.y(), static_cast<double>(m.score),
+                      static_cast<int>(run.inlier[static_cast<std::size_t>(i)]));
+        f << line;
+    }
+    return f.good() ? "" : path + ": cannot write";
+}
+
+std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, const RefineRun& run) {
+    const motion::MotionResult& r = run.result;
+    const double dR = motion::rotationAngleRad(in.R_2_from_1, r.R_b_from_a) * kRadToDeg;
+    const double dT = motion::directionAngleRad(in.t_2_from_1_m, r.t_b_from_a_m) * kRadToDeg;
+    char t[2048];
+    std::snprintf(t, sizeof t,
+                  "# vtm refine\n\n"
+                  "| item | value |\n|---|---|\n"
+                  "| images | %s, %s (%dx%d) |\n"
+                  "| features in image 1 | %d (candidates %d) |\n"
+                  "| matches (mutual, NCC >= %.2f) | %d of %d tried (no region %d, low score %d, not mutual %d) |\n"
+                  "| inliers | %d of %d |\n"
+                  "| reprojection RMS, odometry motion | %.3f px |\n"
+                  "| reprojection RMS, refined (inliers) | %.3f px |\n"
+                  "| rotation change from odometry | %.3f deg (1-sigma %.4f deg) |\n"
+                  "| translation direction change | %.3f deg (1-sigma %.4f deg) |\n"
+                  "| baseline (kept from odometry) | %.4f m |\n"
+                  "| LM iterations / passes | %d / %d |\n"
+                  "| time: detect, match, refine | %.3f s, %.3f s, %.3f s |\n",
+                  o.image1.c_str(), o.image2.c_str(), in.image1.width, in.image1.height, run.features->count,
+                  run.detector_stats.candidates, static_cast<double>(features::MatcherConfig{}.min_score),
+                  run.matches->count, run.match_stats.attempted, run.match_stats.no_region, run.match_stats.low_score,
+                  run.match_stats.not_mutual, r.inliers, r.matches, r.initial_rms_px, r.rms_px, dR,
+                  r.rotation_sigma_rad * kRadToDeg, dT, r.direction_sigma_rad * kRadToDeg, r.t_b_from_a_m.norm(),
+                  r.iterations, r.passes, run.detect_s, run.match_s, run.refine_s);
+    return t;
+}
+
+}  // namespace
+
+CLI::App* addRefineCommand(CLI::App& app, WideBaselineOptions& o) {
+    CLI::App* cmd = app.add_subcommand(
+        "refine", "refine the relative motion of a wide-baseline pair from odometry poses (features + LM)");
+    cmd->add_option("IMAGE1", o.image1, "first image (8-bit PNG, PGM, JPEG or BMP)")->required();
+    cmd->add_option("IMAGE2", o.image2, "second image")->required();
+    cmd->add_option("--camera", o.camera, "camera model file of image 1 (and 2) (docs/camera-models.md)")->required();
+    cmd->add_option("--camera2", o.camera2, "camera model file of image 2, if another camera");
+    cmd->add_option("--pose1", o.pose1, "odometry pose of camera 1: FILE or FILE:INDEX (docs/cli-poses.md)")
+        ->required();
+    cmd->add_option("--pose2", o.pose2, "odometry pose of camera 2: FILE or FILE:INDEX")->required();
+    cmd->add_option("--range", o.range, "range of the scene along camera 1's rays, MIN:MAX metres (default 1:1000)");
+    cmd->add_option("--margin", o.margin_px, "odometry uncertainty around the predicted match, pixels (default 60)");
+    cmd->add_option("--mast-height", o.mast_height_m,
+                    "camera 1's height above level ground, m: features only where camera 2 sees (default 1.9; 0: "
+                    "everywhere)");
+    cmd->add_option("--out", o.out, "refined poses (vtm-camera-poses 1: frame 0 = camera 1, frame 1 = camera 2)")
+        ->required();
+    cmd->add_option("--matches", o.matches, "write the matches (x1 y1 x2 y2 ncc inlier)");
+    cmd->add_option("--report", o.report, "write the report (Markdown); it is also printed");
+    return cmd;
+}
+
+int runRefine(const WideBaselineOptions& o) {
+    if (!(o.margin_px > 0.0) || !std::isfinite(o.margin_px) || o.margin_px > 1000.0) {
+        return fail("refine", kExitUsageError, "--margin " + std::to_string(o.margin_px) + ": must be in (0, 1000] px");
+    }
+    if (!(o.mast_height_m >= 0.0) || !std::isfinite(o.mast_height_m) || o.mast_height_m > 100.0) {
+        return fail("refine", kExitUsageError,
+                    "--mast-height " + std::to_string(o.mast_height_m) + ": must be in [0, 100] m");
+    }
+    double lo = 0.0;
+    double hi = 0.0;
+    std::string error = parseRange(o.range, lo, hi);
+    if (!error.empty()) return fail("refine", kExitUsageError, error);
+    PairInputs in;
+    error = loadPair(o, in);
+    RefineRun run;
+    if (error.empty()) error = detectAndMatch(o, in, run);
+    if (error.empty()) error = refineMotion(in, run);
+    if (!error.empty()) return fail("refine", kExitInputError, error);
+    SimCameraPose p1 = in.pose1;
+    SimCameraPose p2 = refinedPose2(in, run.result);
+    p1.frame_index = 0U;
+    p2.frame_index = 1U;
+    std::ofstream f(o.out);
+    f << ground::formatCameraPoses({p1, p2});
+    if (!f.good()) return fail("refine", kExitInputError, o.out + ": cannot write");
+    error = writeMatches(o.matches, run);
+    const std::string report = refineReport(o, in, run);
+    if (error.empty() && !o.report.empty()) {
+        std::ofstream r(o.report);
+        r << report;
+        if (!r.good()) error = o.report + ": cannot write";
+    }
+    if (!error.empty()) return fail("refine", kExitInputError, error);
+    std::fputs(report.c_str(), stdout);
+    std::printf("\nrefined poses: %s (rectify with --pose1 %s:0 --pose2 %s:1)\n", o.out.c_str(), o.out.c_str(),
+                o.out.c_str());
+    return kExitOk;
+}
+
+// ---- vtm rectify ---------------------------------------------------------------------
+
+namespace {
+
+struct RectifyRun {
+    rectify::RectifiedPair pair;
+    GreyImage rect1;
+    GreyImage rect2;
+    double compute_s = 0.0;
+    double remap_s = 0.0;
+    double kept1 = 0.0;  // fraction of rectified pixels that come from inside the input
+    double kept2 = 0.0;
+};
+
+double keptFraction(const rectify::Rectifier& r, rectify::Rectifier::Side side, const GreyImage& out,
+                    const CameraModel& input) {
+    std::size_t inside = 0;
+    for (int y = 0; y < out.height; ++y) {
+        for (int x = 0; x < out.width; ++x) {
+            Vec2 p;
+            if (r.unrectifyPixel(side, Vec2(x, y), p).isOk() && p.x() >= -0.5 && p.y() >= -0.5 &&
+                p.x() <= input.width_px - 0.5 && p.y() <= input.height_px - 0.5) {
+                ++inside;
+            }
+        }
+    }
+    return static_cast<double>(inside) / static_cast<double>(out.pixels.size());
+}
+
+std::string runRectifier(const PairInputs& in, RectifyRun& run) {
+    rectify::RectifyConfig c;
+    c.max_width = std::max(in.image1.width, in.image2.width);
+    c.max_height = std::max(in.image1.height, in.image2.height);
+    c.range_min_m = in.range_min_m;
+    c.range_max_m = in.range_max_m;
+    std::vector<std::byte> pool(rectify::Rectifier::workspaceBytes(c));
+    Arena arena(pool.data(), pool.size());
+    static rectify::Rectifier rectifier;
+    Status s = rectifier.init(c, arena);
+    if (!s.isOk()) return statusText("Rectifier::init", s);
+    rectify::RectifyInput ri;
+    ri.model_a = &in.model1;
+    ri.model_b = &in.model2;
+    ri.R_b_from_a = in.R_2_from_1;
+    ri.t_b_from_a_m = in.t_2_from_1_m;
+    auto t0 = std::chrono::steady_clock::now();
+    s = rectifier.compute(ri, run.pair);
+    run.compute_s = seconds(t0);
+    if (!s.isOk()) return statusText("Rectifier::compute", s);
+    run.rect1 = GreyImage(run.pair.model_a.width_px, run.pair.model_a.height_px);
+    run.rect2 = GreyImage(run.pair.model_b.width_px, run.pair.model_b.height_px);
+    t0 = std::chrono::steady_clock::now();
+    s = rectifier.remap(rectify::Rectifier::Side::kA, in.image1.view(), run.rect1.view());
+    if (s.isOk()) s = rectifier.remap(rectify::Rectifier::Side::kB, in.image2.view(), run.rect2.view());
+    run.remap_s = seconds(t0);
+    if (!s.isOk()) return statusText("Rectifier::remap", s);
+    run.kept1 = keptFraction(rectifier, rectify::Rectifier::Side::kA, run.rect1, in.model1);
+    run.kept2 = keptFraction(rectifier, rectify::Rectifier::Side::kB, run.rect2, in.model2);
+    return "";
+}
+
+// Site poses of the two rectified cameras (their optical frames).
+void rectifiedPoses(const PairInputs& in, const RectifyRun& run, SimCameraPose& p1, SimCameraPose& p2) {
+    const Mat3 R1 = rotationOf(in.pose1);
+    const Mat3 R_site_from_rect = R1 * run.pair.R_rect_from_a.transpose();
+    // Camera 1's projection centre in its reference frame: the rectified frame's origin is
+    // there (models with C != 0 keep it: centre = R_rect_from_a (c_a - c_a) = 0).
+    rectify::LinearCamera lin;
+    const Vec3 c1_ref = rectify::linearizeCamera(in.model1, lin).isOk() ? lin.centre_ref_m : Vec3::Zero();
+    const Vec3 c1_site = positionOf(in.pose1) + R1 * c1_ref;
+    p1 = in.pose1;
+    p2 = in.pose2;
+    setPose(p1, R_site_from_rect, c1_site);
+    setPose(p2, R_site_from_rect, c1_site + R_site_from_rect * run.pair.centre_b_rect_m);
+    p1.frame_index = 0U;
+    p2.frame_index = 1U;
+}
+
+std::string rectifyReport(const WideBaselineOptions& o, const PairInputs& in, const RectifyRun& run) {
+    const rectify::RectifiedPair& p = run.pair;
+    char t[2048];
+    std::snprintf(t, sizeof t,
+                  "# vtm rectify\n\n"
+                  "| item | value |\n|---|---|\n"
+                  "| images | %s, %s |\n"
+                  "| rectified size | %dx%d |\n"
+                  "| baseline | %.4f m |\n"
+                  "| convergence of the input cameras | %.3f deg |\n"
+                  "| rectified focal length | %.3f px |\n"
+                  "| principal points (x1, x2, y) | %.3f, %.3f, %.3f px |\n"
+                  "| disparity range for ranges %g..%g m | %d:%d px (d = x1 - x2) |\n"
+                  "| rectified pixels with input content | %.1f %% (image 1), %.1f %% (image 2) |\n"
+                  "| time: tables, remap of both | %.3f s, %.3f s |\n"
+                  "\nnext: vtm stereo %s/rectified1.png %s/rectified2.png --disparity %d:%d\n",
+                  o.image1.c_str(), o.image2.c_str(), p.model_a.width_px, p.model_a.height_px, p.baseline_m,
+                  p.convergence_deg, p.model_a.fx_px, p.model_a.cx_px, p.model_b.cx_px, p.model_a.cy_px,
+                  in.range_min_m, in.range_max_m, p.d_min, p.d_max, 100.0 * run.kept1, 100.0 * run.kept2,
+                  run.compute_s, run.remap_s, o.out_dir.c_str(), o.out_dir.c_str(), p.d_min, p.d_max);
+    return t;
+}
+
+std::string writeRectified(const WideBaselineOptions& o, const PairInputs& in, const RectifyRun& run,
+                           const std::string& report) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.out_dir, ec);
+    if (ec) return o.out_dir + ": cannot create the folder: " + ec.message();
+    const std::string d = o.out_dir + "/";
+    ground::Outcome w = ground::writePng(d + "rectified1.png", run.rect1);
+    if (w.ok) w = ground::writePng(d + "rectified2.png", run.rect2);
+    if (w.ok) w = ground::writeCameraModelFile(d + "rectified1.cmod", run.pair.model_a);
+    if (w.ok) w = ground::writeCameraModelFile(d + "rectified2.cmod", run.pair.model_b);
+    if (!w.ok) return w.error;
+    SimCameraPose p1;
+    SimCameraPose p2;
+    rectifiedPoses(in, run, p1, p2);
+    std::ofstream poses(d + "rectified_poses.txt");
+    poses << ground::formatCameraPoses({p1, p2});
+    std::ofstream r(d + "report.md");
+    r << report;
+    return (poses.good() && r.good()) ? "" : o.out_dir + ": cannot write rectified_poses.txt or report.md";
+}
+
+}  // namespace
+
+CLI::App* addRectifyCommand(CLI::App& app, WideBaselineOptions& o) {
+    CLI::App* cmd = app.add_subcommand("rectify", "rectify a (wide-baseline, verged) pair given its poses (Fusiello)");
+    cmd->add_option("IMAGE1", o.image1, "first image (8-bit PNG, PGM, JPEG or BMP): the rectified left")->required();
+    cmd->add_option("IMAGE2", o.image2, "second image")->required();
+    cmd->add_option("--camera", o.camera, "camera model file of image 1 (and 2) (docs/camera-models.md)")->required();
+    cmd->add_option("--camera2", o.camera2, "camera model file of image 2, if another camera");
+    cmd->add_option("--pose1", o.pose1, "pose of camera 1: FILE or FILE:INDEX (e.g. the output of vtm refine)")
+        ->required();
+    cmd->add_option("--pose2", o.pose2, "pose of camera 2: FILE or FILE:INDEX")->required();
+    cmd->add_option("--range", o.range, "range of the scene, MIN:MAX metres, for the disparity range (default 1:1000)");
+    cmd->add_option("--out-dir", o.out_dir,
+                    "output folder: rectified1/2.png, rectified1/2.cmod, rectified_poses.txt, report.md")
+        ->required();
+    return cmd;
+}
+
+int runRectify(const WideBaselineOptions& o) {
+    double lo = 0.0;
+    double hi = 0.0;
+    std::string error = parseRange(o.range, lo, hi);
+    if (!error.empty()) return fail("rectify", kExitUsageError, error);
+    PairInputs in;
+    error = loadPair(o, in);
+    RectifyRun run;
+    if (error.empty()) error = runRectifier(in, run);
+    const std::string report = error.empty() ? rectifyReport(o, in, run) : "";
+    if (error.empty()) error = writeRectified(o, in, run, report);
+    if (!error.empty()) return fail("rectify", kExitInputError, error);
+    std::fputs(report.c_str(), stdout);
+    return kExitOk;
+}
+
+}  // namespace vtm::tools
