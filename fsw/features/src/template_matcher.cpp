@@ -455,6 +455,7 @@ struct Best {
 struct TemplateBank {
     std::uint16_t* storage = nullptr;  // (kWarpHypotheses * kRaySamples + 1) * window^2 values
     std::size_t stride = 0U;           // window^2
+    std::int32_t half = 0;             // template half width (window / 2)
     Template coarse[kWarpHypotheses * kRaySamples];
     bool built[kWarpHypotheses * kRaySamples] = {};
 };
@@ -621,8 +622,11 @@ Estimate refineAt(const TemplateMatcher::Pyramid& from, const TemplateMatcher::P
 }
 
 // The whole search of one point: region, coarse level, refinement, subpixel.
+// Six arguments (plus the hidden result pointer) so that every one travels in a register
+// on x86-64: a seventh would be pushed, which -fstack-usage reports as a dynamic frame.
 SearchResult search(const TemplateMatcher::Pyramid& from, const TemplateMatcher::Pyramid& to, const Geometry& g,
-                    const Vec2& pixel, std::int32_t half, TemplateBank& bank) noexcept {
+                    const Vec2& pixel, TemplateBank& bank) noexcept {
+    const std::int32_t half = bank.half;
     SearchResult r;
     r.outcome = Outcome::kNoRegion;
     const ImageView<const std::uint8_t>& img = from.level[0];
@@ -871,15 +875,15 @@ Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
     setAxis(forward);
     Geometry backward = inverseOf(forward);
     setAxis(backward);
-    const std::int32_t half = config_.template_window / 2;
     TemplateBank bank;
+    bank.half = config_.template_window / 2;
     bank.storage = bank_.data();
     bank.stride = static_cast<std::size_t>(config_.template_window) * static_cast<std::size_t>(config_.template_window);
     const auto tolerance = static_cast<double>(config_.mutual_tolerance_px);
     for (std::int32_t i = 0; i < features_a.count; ++i) {
         const Vec2& pixel_a = features_a.items[i].pixel;
         ++st.attempted;
-        const SearchResult fwd = search(pa, pb, forward, pixel_a, half, bank);
+        const SearchResult fwd = search(pa, pb, forward, pixel_a, bank);
         if (fwd.outcome == Outcome::kNoRegion) {
             ++st.no_region;
             continue;
@@ -888,7 +892,7 @@ Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
             ++st.low_score;
             continue;
         }
-        const SearchResult back = search(pb, pa, backward, fwd.pixel, half, bank);
+        const SearchResult back = search(pb, pa, backward, fwd.pixel, bank);
         if (back.outcome != Outcome::kFound || (back.pixel - pixel_a).norm() > tolerance) {
             ++st.not_mutual;
             continue;
