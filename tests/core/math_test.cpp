@@ -171,6 +171,25 @@ TEST(MathAccuracy, LogWithinBound) {
     EXPECT_LT(subnormal.maxUlp, kBoundUlp + kReferenceSlackUlp);
 }
 
+TEST(MathAccuracy, Log1pWithinBound) {
+    // |x| from 2^-60 to 2^10 (and x in (-1, 0) down to -1 + 2^-30), where log(1 + x)
+    // would lose the digits of x that 1 + x rounds away. Bound: 2 ulp (Goldberg).
+    Random rng(107U);
+    ErrorStats small;
+    ErrorStats large;
+    for (std::int32_t i = 0; i < kSamples; ++i) {
+        const double x = randomSign(rng, logUniform(rng, -60, -1));
+        small.add(ulpError(math::log1p(x), std::log1p(R(x))), x);
+        const double y = logUniform(rng, -1, 10);
+        large.add(ulpError(math::log1p(y), std::log1p(R(y))), y);
+    }
+    small.report("log1p |x| < 0.5");
+    large.report("log1p x in [0.5, 1024)");
+    EXPECT_LT(small.maxUlp, 2.0 + kReferenceSlackUlp);
+    EXPECT_LT(large.maxUlp, 2.0 + kReferenceSlackUlp);
+    EXPECT_LT(ulpError(math::log1p(-1.0 + 0x1p-30), std::log1p(R(-1.0 + 0x1p-30))), 2.0 + kReferenceSlackUlp);
+}
+
 void sweepSinCos(Random& rng, double limit, ErrorStats& s, ErrorStats& c) {
     for (std::int32_t i = 0; i < kSamples; ++i) {
         const double x = uniformIn(rng, -limit, limit);
@@ -411,6 +430,20 @@ TEST(MathSpecialValues, Log) {
     EXPECT_EQ(math::log(2.0), 0x1.62e42fefa39efp-1);  // ln 2, correctly rounded
     EXPECT_LT(ulpError(math::log(0x1p-1074), std::log(R(0x1p-1074))), kBoundUlp + kReferenceSlackUlp);
     EXPECT_LT(ulpError(math::log(DBL_MAX), std::log(R(DBL_MAX))), kBoundUlp + kReferenceSlackUlp);
+}
+
+TEST(MathSpecialValues, Log1p) {
+    for (double nan : kNaNs) {
+        EXPECT_TRUE(isCanonicalNaN(math::log1p(nan)));
+    }
+    EXPECT_EQ(math::log1p(-1.0), -kInf);
+    EXPECT_TRUE(isCanonicalNaN(math::log1p(-1.5)));
+    EXPECT_TRUE(isCanonicalNaN(math::log1p(-kInf)));
+    EXPECT_EQ(math::log1p(kInf), kInf);
+    EXPECT_TRUE(isPositiveZero(math::log1p(0.0)));
+    EXPECT_TRUE(isNegativeZero(math::log1p(-0.0)));
+    EXPECT_EQ(math::log1p(0x1p-80), 0x1p-80);
+    EXPECT_EQ(math::log1p(1.0), 0x1.62e42fefa39efp-1);  // ln 2
 }
 
 TEST(MathSpecialValues, SinCos) {

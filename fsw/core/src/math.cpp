@@ -225,6 +225,27 @@ double log(double x) noexcept {
     return body.hi + low;
 }
 
+double log1p(double x) noexcept {
+    if (isNaN(x) || x < -1.0) {
+        return kNaN;
+    }
+    if (x == kInfinity) {
+        return kInfinity;
+    }
+    const double u = 1.0 + x;
+    if (u == 1.0) {
+        return x;  // |x| below half an ulp of 1: ln(1 + x) = x to within x^2 / 2 (keeps -0)
+    }
+    if (u == 0.0) {
+        return -kInfinity;  // x = -1
+    }
+    // u - 1 is exact (Sterbenz for u in [0.5, 2]; a multiple of u's ulp below u beyond),
+    // so c = x - (u - 1) is exactly the error of rounding 1 + x, and
+    // ln(1 + x) = ln(u) + ln(1 + c/u) = ln(u) + c/u to within (c/u)^2 / 2.
+    const double c = x - (u - 1.0);
+    return log(u) + c / u;
+}
+
 namespace {
 
 // -------------------------------------------------------------------- sin and cos --

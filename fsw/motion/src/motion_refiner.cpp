@@ -73,7 +73,7 @@ double kernelCost(RobustKernel kernel, double scale, double e) noexcept {
     }
     if (kernel == RobustKernel::kCauchy) {
         const double q = e / scale;
-        return 0.5 * scale * scale * math::log(1.0 + q * q);
+        return 0.5 * scale * scale * math::log1p(q * q);
     }
     return 0.5 * e * e;
 }

@@ -60,6 +60,12 @@ constexpr double kTrigMaxArgument = 0x1.0p52;
 // normal ones.
 [[nodiscard]] double log(double x) noexcept;
 
+// ln(1 + x), accurate also where 1 + x rounds away most of x (|x| << 1): u = 1 + x,
+// c = x - (u - 1) its exact rounding error, ln(u) + c / u. Within 2 ulp (docs/math.md).
+// log1p(-1) = -inf, log1p(x < -1) = NaN, log1p(+inf) = +inf, log1p(+-0) = +-0,
+// log1p(NaN) = NaN.
+[[nodiscard]] double log1p(double x) noexcept;
+
 // Sine and cosine of x in radians. |x| < kTrigAccurateLimit: < 1 ulp. From there up to
 // kTrigMaxArgument the result is the accurate sine/cosine of an argument within about
 // 1 ulp of x, i.e. the absolute error grows with |x| (about |x| * 2^-53); results stay in
