@@ -5,7 +5,7 @@
 // consecutive frames and several plane counts: elevation RMS and 95th percentile error of
 // the valid pixels against the renderer's per-pixel truth (point_site_m), as a percentage
 // of the altitude. Prints the table docs/descent.md quotes; asserts the target
-// (RMS <= 0.5 % of the altitude) at the default plane count.
+// (RMS <= 0.5 % of the altitude) at the default plane count and Config's default window.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +28,16 @@ constexpr std::int32_t kSize = 512;
 constexpr std::uint64_t kSeeds[] = {7U, 8U, 9U};
 constexpr std::int32_t kPlaneCounts[] = {16, 32, 64};
 constexpr std::int32_t kDefaultPlanes = 64;  // kPlaneCounts' last entry
+// Config's default score window is 11 x 11. With 7 x 7 the ~280 m pair misses the target (1.1 % RMS): at 512 x 512 its
+// image 1 has a 0.45 m pixel footprint, and the renderer, which point-samples and fades
+// each texture octave out between two footprints and one, drops the terrain's fine
+// texture (longest wavelength 0.5 m) from image 1 while image 2 (0.24 m) shows it at full
+// contrast; what the two images share is ~7.5 DN of 7 x 7 texture over 2.4 DN of noise.
+// Rendering image 1 at 1024 x 1024 and box-averaging it to 512 (a pixel that integrates its
+// area) gives 0.07 % on the same pair; at 1024 x 1024 the miss moves to the ~540 m pair
+// (docs/descent.md "Accuracy"). A larger window averages the noise: 11 x 11 meets the
+// target at every altitude; the sweep's cost does not depend on the window.
+// VTM_DESCENT_WINDOW=N overrides it for exploration (7: the earlier default).
 
 std::string readScenarioText(std::uint64_t seed) {
     std::ifstream in(std::string(VTM_SCENARIO_DIR) + "/descent.scn");
@@ -76,6 +86,11 @@ Config pairConfig(const std::vector<float>& depth, std::int32_t planes) {
     const double f = (1.0 / c.depth_min_m - 1.0 / c.depth_max_m) * median;
     c.min_parallax_px = 50.0 * f;
     c.score = std::getenv("VTM_DESCENT_SAD") != nullptr ? Score::kSad : Score::kNcc;
+    const char* window = std::getenv("VTM_DESCENT_WINDOW");
+    if (window != nullptr) {
+        c.window = std::atoi(window);
+    }
+    EXPECT_TRUE(c.validate().isOk()) << "VTM_DESCENT_WINDOW: odd, 3..31";
     return c;
 }
 
@@ -182,18 +197,15 @@ TEST(DescentAccuracy, ElevationErrorBySimulatedAltitudeAndPlaneCount) {
         std::printf("\n");
     }
     std::printf("worst single-pair RMS at %d planes: %.3f %% of altitude\n", kDefaultPlanes, worstDefault);
-    // The target (RMS <= 0.5 % of the altitude) holds at 6 of the 7 altitudes; the
-    // ~280 m pair misses it on every seed (about 1.1 %: the terrain's fine texture, 0.5 m,
-    // is at image 1's pixel size there; docs/descent.md "Accuracy"). Gate: the median
-    // altitude meets the target, no pair exceeds 1.5 %.
-    std::vector<double> perAltitude;
-    for (std::int32_t k = 0; k < kPairs; ++k) {
-        perAltitude.push_back(rms[k][kCounts - 1]);
+    // The target: RMS <= 0.5 % of the altitude at every altitude (mean over the
+    // seeds; 11 x 11 window: 0.41 % at worst, ~280 m); a single seed may not be far above.
+    if (std::getenv("VTM_DESCENT_WINDOW") != nullptr || std::getenv("VTM_DESCENT_SAD") != nullptr) {
+        return;  // an exploration run, not the configuration the gate is for
     }
-    std::sort(perAltitude.begin(), perAltitude.end());
-    EXPECT_LE(perAltitude[kPairs / 2], 0.5);
-    EXPECT_LE(perAltitude[kPairs - 2], 0.5) << "all but one altitude";
-    EXPECT_LE(worstDefault, 1.5);
+    for (std::int32_t k = 0; k < kPairs; ++k) {
+        EXPECT_LE(rms[k][kCounts - 1], 0.5) << "altitude " << alt[k] << " m";
+    }
+    EXPECT_LE(worstDefault, 0.6);
 }
 
 }  // namespace

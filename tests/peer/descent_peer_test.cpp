@@ -47,6 +47,7 @@ TEST(DescentPeer, BruteForceOpenCvSweepPicksTheSamePlanes) {
     c.depth_min_m = 80.0;
     c.depth_max_m = 125.0;
     c.score = Score::kSad;
+    c.window = 7;  // a 128 x 128 pair: the default 11 leaves too few pixels inside both images
     c.min_parallax_px = 4.0;
     std::vector<std::byte> pool(PlaneSweep::workspaceBytes(c));
     Arena arena(pool.data(), pool.size());

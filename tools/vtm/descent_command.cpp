@@ -185,7 +185,7 @@ CLI::App* addDescentCommand(CLI::App& app, DescentOptions& o) {
     cmd->add_option("--depth", o.depth_range, "depth range MIN:MAX, metres along camera 1's axis "
                                               "(default: camera 1's height above elevation 0, +-30 %)");
     cmd->add_option("--score", o.score, "window score: ncc or sad (default ncc)");
-    cmd->add_option("--window", o.window, "window side, odd, 3..31 px (default 7)");
+    cmd->add_option("--window", o.window, "window side, odd, 3..31 px (default 11)");
     cmd->add_option("--min-parallax", o.min_parallax_px, "focus-of-expansion mask threshold, image-2 px");
     cmd->add_option("--cell", o.cell_m, "grid cell, metres (default: one image-1 pixel on the ground)");
     cmd->add_option("--out", o.out_pfm, "elevation grid as PFM (metres, NaN = NO_DATA, north up)")->required();

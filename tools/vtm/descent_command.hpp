@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "vtm/descent/plane_sweep.hpp"
+
 namespace vtm::tools {
 
 struct DescentOptions {
@@ -17,7 +19,7 @@ struct DescentOptions {
     int planes = 64;
     std::string depth_range;  // "MIN:MAX" metres along camera 1's axis; default from pose1's height
     std::string score = "ncc";
-    int window = 7;
+    int window = vtm::descent::Config{}.window;
     double min_parallax_px = -1.0;  // < 0: 50 f (see docs/descent.md)
     double cell_m = 0.0;            // <= 0: the ground size of one image-1 pixel
     std::string out_pfm;            // elevation grid (NaN = NO_DATA), north up
