@@ -34,6 +34,9 @@ public:
 
     void record(std::uint64_t timestamp_ns, Severity severity, std::uint16_t id, std::int64_t a0 = 0,
                 std::int64_t a1 = 0, std::int64_t a2 = 0, std::int64_t a3 = 0) noexcept;
+    // Records a prepared event (callers that fill all four arguments: one reference
+    // argument instead of eight scalars, which some ABIs pass on the stack).
+    void record(const Event& event) noexcept { ring_.push(event); }
     // Records a Status: args = {code, detail, 0, 0}; severity kError unless ok.
     void recordStatus(std::uint64_t timestamp_ns, std::uint16_t id, const Status& status) noexcept;
 
