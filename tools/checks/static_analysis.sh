@@ -31,7 +31,7 @@ trap 'rm -rf "$work"' EXIT
 python3 - "$db" "$repo" "$work/compile_commands.json" <<'EOF'
 import json, os, shlex, sys
 db, repo, out = sys.argv[1], os.path.realpath(sys.argv[2]), sys.argv[3]
-GCC_ONLY = ("-fcallgraph-info", "-fstack-usage")
+GCC_ONLY = ("-fcallgraph-info", "-fstack-usage", "-maccumulate-outgoing-args")
 entries = []
 for e in json.load(open(db)):
     f = os.path.realpath(os.path.join(e["directory"], e["file"]))

@@ -6,7 +6,11 @@
 #  - IEEE arithmetic exactly as written: no contraction into FMA, no fast-math, Eigen
 #    without explicit SIMD, so that results are bit-identical on every target;
 #  - Eigen may not touch the heap, and its assertions go to VTM_ASSERT;
-#  - -fstack-usage and -fcallgraph-info=su feed the stack budget (tools/budget).
+#  - -fstack-usage and -fcallgraph-info=su feed the stack budget (tools/budget);
+#  - on x86-64, -maccumulate-outgoing-args: arguments beyond the six integer registers
+#    go into space reserved in the caller's frame, as on every other target, instead of
+#    being pushed (GCC reports a pushing frame as "dynamic,bounded", which the budget
+#    rejects for flight code).
 add_library(vtm_flight_policy INTERFACE)
 target_compile_options(vtm_flight_policy INTERFACE
   -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow -Wold-style-cast -Wcast-qual
@@ -16,6 +20,7 @@ target_compile_options(vtm_flight_policy INTERFACE
   -ffp-contract=off -fno-fast-math
   $<$<CXX_COMPILER_ID:GNU>:-fstack-usage>
   $<$<CXX_COMPILER_ID:GNU>:-fcallgraph-info=su>
+  $<$<AND:$<CXX_COMPILER_ID:GNU>,$<STREQUAL:${CMAKE_SYSTEM_PROCESSOR},x86_64>>:-maccumulate-outgoing-args>
   ${VTM_FLIGHT_CPU_FLAGS})  # CPU flags for flight code only (set by a toolchain file)
 target_compile_definitions(vtm_flight_policy INTERFACE
   EIGEN_DONT_VECTORIZE EIGEN_NO_MALLOC EIGEN_MAX_STATIC_ALIGN_BYTES=0
