@@ -182,6 +182,41 @@ TEST(PlaneSweep, SlopedPlaneDepthIsRecoveredWithNcc) {
     }
 }
 
+// A sweep initialised for another depth range and retargeted with setDepthRange() gives
+// the bits of one initialised for the right range (a lander's range changes every pair).
+TEST(PlaneSweep, SetDepthRangeRetargetsWithoutNewMemory) {
+    const Config right = testConfig();
+    const SweepRun reference = runSweep(right, pair().geometry);
+    ASSERT_TRUE(reference.status.isOk());
+    Config wrong = right;
+    wrong.depth_min_m = 10.0 * right.depth_min_m;
+    wrong.depth_max_m = 10.0 * right.depth_max_m;
+    wrong.min_parallax_px = 0.0;
+    std::vector<std::byte> pool(PlaneSweep::workspaceBytes(wrong));
+    Arena arena(pool.data(), pool.size());
+    PlaneSweep sweep;
+    EXPECT_EQ(sweep.setDepthRange(1.0, 2.0, 0.0).code(), StatusCode::kNotInitialized);
+    ASSERT_TRUE(sweep.init(wrong, arena).isOk());
+    arena.freeze();
+    // A refused range names the field and leaves the previous one in force.
+    const Status bad = sweep.setDepthRange(right.depth_max_m, right.depth_min_m, right.min_parallax_px);
+    EXPECT_EQ(bad.code(), StatusCode::kInvalidConfig);
+    EXPECT_NE(std::string(bad.reason()).find("depth_max_m"), std::string::npos);
+    EXPECT_EQ(sweep.config().depth_min_m, wrong.depth_min_m);
+    ASSERT_TRUE(sweep.setDepthRange(right.depth_min_m, right.depth_max_m, right.min_parallax_px).isOk());
+    const std::size_t n = static_cast<std::size_t>(kSize) * kSize;
+    std::vector<float> depth(n), score(n);
+    std::vector<std::uint8_t> reason(n);
+    const Pair& p = pair();
+    const SweepOutput out{ImageView<float>(depth.data(), kSize, kSize), ImageView<float>(score.data(), kSize, kSize),
+                          ImageView<std::uint8_t>(reason.data(), kSize, kSize)};
+    ASSERT_TRUE(sweep.compute(ImageView<const std::uint16_t>(p.f1.image.data(), kSize, kSize),
+                              ImageView<const std::uint16_t>(p.f2.image.data(), kSize, kSize), pair().geometry, out)
+                    .isOk());
+    EXPECT_EQ(0, std::memcmp(depth.data(), reference.depth.data(), n * sizeof(float)));
+    EXPECT_EQ(reason, reference.reason);
+}
+
 // Image-1 pixel of the focus of expansion: where camera 2's centre projects in camera 1.
 Vec2 focusOfExpansion() {
     const Pair& p = pair();

@@ -127,4 +127,17 @@ Status PlaneSweep::init(const Config& config, Arena& arena) noexcept {
     return Status::ok();
 }
 
+Status PlaneSweep::setDepthRange(double depth_min_m, double depth_max_m, double min_parallax_px) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "PlaneSweep::setDepthRange: init() has not succeeded");
+    }
+    Config c = config_;
+    c.depth_min_m = depth_min_m;
+    c.depth_max_m = depth_max_m;
+    c.min_parallax_px = min_parallax_px;
+    VTM_RETURN_IF_ERROR(c.validate());
+    config_ = c;
+    return Status::ok();
+}
+
 }  // namespace vtm::descent

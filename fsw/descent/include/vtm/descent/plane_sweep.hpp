@@ -121,6 +121,11 @@ public:
     // Validates the config and carves the workspace. kInvalidConfig, kOutOfMemory.
     [[nodiscard]] Status init(const Config& config, Arena& arena) noexcept;
 
+    // Retargets an initialised sweep to another depth range and focus-of-expansion
+    // threshold for the next compute() (a lander's altitude changes from pair to pair; the
+    // workspace does not depend on them). kNotInitialized; kInvalidConfig naming the field
+    // as Config::validate() does. A refused call leaves the previous range in force.
+    [[nodiscard]] Status setDepthRange(double depth_min_m, double depth_max_m, double min_parallax_px) noexcept;
     // Depth of every pixel of image 1. Images: grey levels 0..kMaxGreyLevel, same size,
     // within capacity. kNotInitialized; kInvalidArgument (empty view, a grey level above
     // 4095, a pose that is not a rotation or not finite, camera 2 at camera 1's
