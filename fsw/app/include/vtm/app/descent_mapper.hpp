@@ -1,0 +1,136 @@
+// DescentMapper: the lander's mapping executive (issue 7, paper §4). Initialised once from
+// a validated configuration, it owns all its memory (planned by workspaceBytes and taken
+// from the caller's Arena at init). Each map() request:
+//   capture1  image 1 through hal::Camera (capture16: 8- or 12-bit frames)
+//   pose1     hal::Odometry at image 1's timestamp
+//   capture2  image 2 (the next frame: later, closer)
+//   pose2     the pose at image 2's timestamp
+//   geometry  camera poses from the vehicle poses and the mount; the depth range from
+//             camera 1's height above the site datum, +-relief_fraction; image 2 must be
+//             the closer one
+//   sweep     descent::PlaneSweep: depth of every pixel of image 1 (or a reason)
+//   grid      descent::elevationGrid on a fixed grid centred under camera 1
+// Every stage leaves a StageRecord (Status, quality figure, time from hal::Clock) in
+// stages() and one event in hal::EventLog. The first stage that fails ends the request
+// with its Status (stages().failed() names the stage) and nothing is published:
+// products() is nullptr until a request succeeds, and again from the start of the next
+// one. A published product stays valid until the next map().
+//
+// No heap, no exceptions; deterministic for the same frames and poses (the sweep's bits
+// are the same on every target). docs/app.md has the memory figures.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "hal/camera.hpp"
+#include "hal/clock.hpp"
+#include "hal/event_log.hpp"
+#include "hal/odometry.hpp"
+#include "vtm/app/camera_mount.hpp"
+#include "vtm/app/stage_log.hpp"
+#include "vtm/core/arena.hpp"
+#include "vtm/core/image.hpp"
+#include "vtm/core/span.hpp"
+#include "vtm/descent/plane_sweep.hpp"
+
+namespace vtm::app {
+
+constexpr std::int32_t kMaxGridCells = 4096;  // elevation grid side
+
+struct DescentMapperConfig {
+    // The plane sweep. max_width x max_height must be the camera's frame size; depth_min_m,
+    // depth_max_m and min_parallax_px are replaced per pair (see below).
+    descent::Config sweep{};
+    CameraMount mount{};  // the nadir camera on the lander
+    // Depth range of each pair: camera 1's height h above the site datum times
+    // (1 - relief_fraction) .. (1 + relief_fraction). 0.01..0.9.
+    double relief_fraction = 0.15;
+    // Focus-of-expansion mask: min_parallax_px = parallax_factor * (1/zmin - 1/zmax) * zmid.
+    // A pixel whose image-2 position moves P px over the range knows its depth to about
+    // (0.25 px / P) of the range width: 20 keeps pixels known to ~1.25 % of the range
+    // (docs/app.md has the measured trade-off). 0..1000.
+    double parallax_factor = 20.0;
+    std::int32_t grid_cells = 512;  // elevation grid side, 16..kMaxGridCells
+    // Grid cell, metres: > 0, or 0 for one image-1 pixel at camera 1's height (h / fx).
+    double grid_cell_m = 0.0;
+
+    // kOk, or kInvalidConfig naming the field (the sweep's own fields as
+    // descent::Config::validate names them, prefixed by nothing).
+    [[nodiscard]] Status validate() const noexcept;
+};
+
+// What a successful request publishes. Views point into the mapper's memory.
+struct DescentProducts {
+    ImageView<const float> depth_m;          // image 1's size, along camera 1's axis; NaN = NO_DATA
+    ImageView<const std::uint8_t> reason;    // descent::Reason per pixel of image 1
+    ImageView<const float> elevation_m;      // grid_cells^2, -z metres, row 0 north; NaN = NO_DATA
+    ImageView<const std::uint16_t> count;    // points per cell (0 = NO_DATA)
+    ImageView<const std::uint16_t> image1;   // the frames the map came from
+    ImageView<const std::uint16_t> image2;
+    descent::GridSpec grid{};
+    descent::PairGeometry geometry{};        // camera model and the two camera poses used
+    hal::FrameInfo frame1{};
+    hal::FrameInfo frame2{};
+    descent::SweepStats sweep{};
+    std::int64_t cells_filled = 0;
+    std::int64_t points_outside = 0;         // valid depths that fell outside the grid
+};
+
+class DescentMapper {
+public:
+    // Arena bytes for this configuration (frames, depth, reasons, grid, the sweep), 0 if
+    // the configuration is invalid.
+    [[nodiscard]] static std::size_t workspaceBytes(const DescentMapperConfig& config) noexcept;
+
+    // Validates the config, asks the camera for its description and carves the memory.
+    // The drivers are borrowed and must outlive the mapper. kInvalidConfig (config field),
+    // kSizeMismatch ("camera: frame size differs from sweep.max_width/max_height"),
+    // kUnsupported (camera model not an undistorted pinhole), kOutOfMemory (arena), or
+    // the camera's describe() Status.
+    [[nodiscard]] Status init(const DescentMapperConfig& config, Arena& arena, hal::Camera& camera,
+                              hal::Odometry& odometry, const hal::Clock& clock, hal::EventLog& events) noexcept;
+
+    // One request (see the file comment). kNotInitialized before a successful init();
+    // otherwise the failing stage's Status, e.g. kNoData from capture2 for a dropped frame,
+    // kCorruptData from pose1 for a NaN pose, kDegenerate from geometry when image 2 is not
+    // closer, kNoData from sweep / grid when no pixel got a depth / no cell an elevation.
+    [[nodiscard]] Status map() noexcept;
+
+    [[nodiscard]] const DescentProducts* products() const noexcept { return published_ ? &products_ : nullptr; }
+    [[nodiscard]] const StageLog& stages() const noexcept { return stages_; }
+    // Arena bytes init() took.
+    [[nodiscard]] std::size_t memoryBytes() const noexcept { return memory_bytes_; }
+
+private:
+    [[nodiscard]] Status capture(Stage stage, const ImageView<std::uint16_t>& image, hal::FrameInfo& info) noexcept;
+    [[nodiscard]] Status poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept;
+    [[nodiscard]] Status planGeometry() noexcept;
+    [[nodiscard]] Status runSweep() noexcept;
+    [[nodiscard]] Status runGrid() noexcept;
+    // Records a stage that began at t0_ns and returns its status.
+    Status finish(Stage stage, const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept;
+
+    DescentMapperConfig config_{};
+    hal::Camera* camera_ = nullptr;
+    hal::Odometry* odometry_ = nullptr;
+    const hal::Clock* clock_ = nullptr;
+    hal::EventLog* events_ = nullptr;
+    CameraModel model_{};
+    descent::PlaneSweep sweep_{};
+    ImageView<std::uint16_t> image1_{};
+    ImageView<std::uint16_t> image2_{};
+    ImageView<float> depth_{};
+    ImageView<std::uint8_t> reason_{};
+    ImageView<float> elevation_{};
+    ImageView<std::uint16_t> count_{};
+    hal::PoseEstimate pose1_{};
+    hal::PoseEstimate pose2_{};
+    DescentProducts products_{};
+    StageLog stages_{};
+    std::size_t memory_bytes_ = 0U;
+    bool initialized_ = false;
+    bool published_ = false;
+};
+
+}  // namespace vtm::app
