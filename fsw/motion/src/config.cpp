@@ -33,6 +33,10 @@ Status MotionConfig::validate() const noexcept {
     if (min_inliers < 6 || min_inliers > kMaxMotionMatches) {
         return invalid("min_inliers: must be 6..1024 (5 motion parameters plus redundancy)", min_inliers);
     }
+    if (!math::isFinite(rotation_prior_sigma_rad) || rotation_prior_sigma_rad < 0.0 ||
+        rotation_prior_sigma_rad > math::kPi) {
+        return invalid("rotation_prior_sigma_rad: must be 0 (none) or in (0, pi] rad", 0);
+    }
     if (!math::isFinite(range_min_m) || range_min_m <= 0.0) {
         return invalid("range_min_m: must be finite and > 0 m", 0);
     }

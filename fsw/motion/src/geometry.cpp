@@ -57,6 +57,17 @@ double rotationAngleRad(const Mat3& a, const Mat3& b) noexcept {
     return math::atan2(s, c);
 }
 
+Vec3 rotationLog(const Mat3& r) noexcept {
+    const Vec3 axis(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1));  // 2 sin(theta) n
+    const double s = 0.5 * math::sqrt(axis.dot(axis));
+    const double c = 0.5 * (r.trace() - 1.0);
+    const double theta = math::atan2(s, c);
+    if (s < 1e-12) {
+        return 0.5 * axis;  // theta ~ sin(theta): the small-angle limit
+    }
+    return (0.5 * theta / s) * axis;
+}
+
 double directionAngleRad(const Vec3& a, const Vec3& b) noexcept {
     if (!finite3(a) || !finite3(b) || a.dot(a) == 0.0 || b.dot(b) == 0.0) {
         return math::kNaN;

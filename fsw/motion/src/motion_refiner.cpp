@@ -167,8 +167,19 @@ bool MotionRefiner::residualAndJacobian(const Motion& m, std::int32_t i, double 
     return true;
 }
 
+// Weight of the rotation prior in the cost (pixels^2 per rad^2), 0 without one.
+double MotionRefiner::priorWeight() const noexcept {
+    const double sigma = config_.rotation_prior_sigma_rad;
+    return sigma > 0.0 ? (config_.robust_scale_px * config_.robust_scale_px) / (sigma * sigma) : 0.0;
+}
+
 double MotionRefiner::robustCost(const Motion& m, const double* rho) const noexcept {
     double cost = 0.0;
+    const double prior = priorWeight();
+    if (prior > 0.0) {
+        const Vec3 d = rotationLog(m.R * R_prior_.transpose());
+        cost += 0.5 * prior * d.dot(d);
+    }
     for (std::int32_t i = 0; i < count_; ++i) {
         if (inlier_[i] == 0U) {
             continue;
@@ -282,6 +293,14 @@ bool MotionRefiner::buildNormal(const Motion& m, bool robust, Normal& n) noexcep
         w_[i] = w * (jm.transpose() * jr);
         v_[i] = w * jr.dot(jr);
         g_rho_[i] = w * jr.dot(r);
+    }
+    // Rotation prior: "observation" 0 of d = log(R R0^T), whose derivative with respect to
+    // the left update Exp(omega) R is the identity to first order.
+    const double prior = priorWeight();
+    if (prior > 0.0) {
+        const Vec3 d = rotationLog(m.R * R_prior_.transpose());
+        n.U.topLeftCorner<3, 3>() += prior * Mat3::Identity();
+        n.g.head<3>() -= prior * d;
     }
     return true;
 }
@@ -445,6 +464,7 @@ Status MotionRefiner::refine(const MotionInput& input, const MotionConfig& confi
     result.matches = static_cast<std::int32_t>(input.pixels_a.size());
     Motion m;
     m.R = input.R_b_from_a;
+    R_prior_ = input.R_b_from_a;
     m.baseline_m = math::sqrt(input.t_b_from_a_m.dot(input.t_b_from_a_m));
     m.u = input.t_b_from_a_m / m.baseline_m;
     const std::int32_t usable = prepare(input, config, m);

@@ -50,6 +50,12 @@ struct MotionConfig {
     double outlier_threshold_px = 2.0;    // after a pass, matches above this are dropped, (0, 1000] px
     std::int32_t max_passes = 3;          // solve / drop rounds, 1..kMaxMotionPasses
     std::int32_t min_inliers = 12;        // at least this many inliers, 6..kMaxMotionMatches
+    // Prior on the rotation: the initial (odometry / IMU) rotation with this 1-sigma per
+    // axis, radians; 0 = none. With it the solution is the MAP estimate: the images'
+    // residuals (in units of robust_scale_px) plus |log(R R0^T)|^2 / sigma^2. Needed where
+    // the images alone cannot tell rotation from translation direction (a narrow view of
+    // near-planar ground along the optical axis: descent). [0, pi].
+    double rotation_prior_sigma_rad = 0.0;
     double range_min_m = 0.3;             // plausible ranges along A's rays: depths are
     double range_max_m = 1000.0;          // initialised and clamped within [min, max]
     // kInvalidConfig naming the field ("max_iterations: must be 1..200").
@@ -140,8 +146,10 @@ private:
     [[nodiscard]] Status finish(const Motion& m, MotionResult& result) noexcept;
     [[nodiscard]] double inlierRms(const Motion& m) const noexcept;
 
+    [[nodiscard]] double priorWeight() const noexcept;
     const CameraModel* model_b_ = nullptr;
     MotionConfig config_{};
+    Mat3 R_prior_ = Mat3::Identity();  // the input rotation (rotation_prior_sigma_rad > 0)
     std::int32_t count_ = 0;
     double rho_min_ = 0.0;   // 1 / range_max_m
     double rho_max_ = 0.0;   // 1 / range_min_m
@@ -173,6 +181,9 @@ void directionTangentBasis(const Vec3& u, Vec3& b1, Vec3& b2) noexcept;
 // Angle of the rotation a^T b (the rotation taking a to b), radians in [0, pi],
 // by atan2 of its sine and cosine parts (accurate at small angles).
 [[nodiscard]] double rotationAngleRad(const Mat3& a, const Mat3& b) noexcept;
+// Rotation vector (axis times angle, radians) of a rotation: the inverse of rotationExp
+// for angles below pi.
+[[nodiscard]] Vec3 rotationLog(const Mat3& r) noexcept;
 // Angle between two translation directions, radians in [0, pi]: atan2(|a x b|, a.b).
 // NaN if either vector is zero or not finite.
 [[nodiscard]] double directionAngleRad(const Vec3& a, const Vec3& b) noexcept;
