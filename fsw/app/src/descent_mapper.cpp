@@ -1,6 +1,9 @@
 #include "vtm/app/descent_mapper.hpp"
 
+#include <cmath>
+
 #include "vtm/core/math.hpp"
+#include "vtm/features/visibility.hpp"
 
 namespace vtm::app {
 namespace {
@@ -42,10 +45,16 @@ bool isUndistortedPinhole(const CameraModel& m) noexcept {
 // Position sigma (mm) of a pose: sqrt of the trace of its position covariance.
 std::int64_t positionSigmaMm(const hal::PoseEstimate& p) noexcept {
     const double trace = p.covariance[0] + p.covariance[7] + p.covariance[14];
-    return static_cast<std::int64_t>(1000.0 * math::sqrt(trace > 0.0 ? trace : 0.0) + 0.5);
+    return static_cast<std::int64_t>(std::floor(1000.0 * math::sqrt(trace > 0.0 ? trace : 0.0) + 0.5));
 }
 
 }  // namespace
+
+motion::MotionConfig descentMotionConfig() noexcept {
+    motion::MotionConfig m;
+    m.rotation_prior_sigma_rad = 0.003;
+    return m;
+}
 
 Status DescentMapperConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(sweep.validate());
@@ -55,6 +64,23 @@ Status DescentMapperConfig::validate() const noexcept {
     }
     if (!math::isFinite(parallax_factor) || parallax_factor < 0.0 || parallax_factor > 1000.0) {
         return invalid("parallax_factor: must be 0..1000");
+    }
+    if (refine_pose) {
+        VTM_RETURN_IF_ERROR(detector.validate());
+        VTM_RETURN_IF_ERROR(matcher.validate());
+        VTM_RETURN_IF_ERROR(motion.validate());
+        if (detector.max_width != sweep.max_width || detector.max_height != sweep.max_height) {
+            return invalid("detector.max_width/max_height: must equal sweep.max_width/max_height", detector.max_width);
+        }
+        if (matcher.max_width != sweep.max_width || matcher.max_height != sweep.max_height) {
+            return invalid("matcher.max_width/max_height: must equal sweep.max_width/max_height", matcher.max_width);
+        }
+        if (!math::isFinite(match_margin_px) || match_margin_px < 0.0 || match_margin_px > 1000.0) {
+            return invalid("match_margin_px: must be 0..1000");
+        }
+        if (!math::isFinite(feature_depth_margin) || feature_depth_margin < 0.0 || feature_depth_margin > 0.9) {
+            return invalid("feature_depth_margin: must be 0..0.9");
+        }
     }
     if (grid_cells < 16 || grid_cells > kMaxGridCells) {
         return invalid("grid_cells: must be 16..4096", grid_cells);
@@ -70,7 +96,12 @@ std::size_t DescentMapper::workspaceBytes(const DescentMapperConfig& config) noe
         return 0U;
     }
     const Buffers b = buffersOf(config);
-    return descent::PlaneSweep::workspaceBytes(config.sweep)  // the sweep's own plan
+    const std::size_t refine = config.refine_pose
+                                   ? features::ForstnerDetector::workspaceBytes(config.detector)  // its own plan
+                                         + features::TemplateMatcher::workspaceBytes(config.matcher)
+                                         + 3U * bytesOf<std::uint8_t>(b.pixels)  // 8-bit frames, visibility mask
+                                   : 0U;
+    return refine + descent::PlaneSweep::workspaceBytes(config.sweep)  // the sweep's own plan
            + 2U * bytesOf<std::uint16_t>(b.pixels)            // image 1, image 2
            + bytesOf<float>(b.pixels)                         // depth of image 1
            + bytesOf<std::uint8_t>(b.pixels)                  // reason per pixel
@@ -102,6 +133,17 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
     reason_ = carve<std::uint8_t>(arena, w, h);
     elevation_ = carve<float>(arena, config.grid_cells, config.grid_cells);
     count_ = carve<std::uint16_t>(arena, config.grid_cells, config.grid_cells);
+    if (config.refine_pose) {
+        VTM_RETURN_IF_ERROR(detector_.init(config.detector, arena));
+        VTM_RETURN_IF_ERROR(matcher_.init(config.matcher, arena));
+        grey1_ = carve<std::uint8_t>(arena, w, h);
+        grey2_ = carve<std::uint8_t>(arena, w, h);
+        visible_ = carve<std::uint8_t>(arena, w, h);
+        if (grey1_.data() == nullptr || grey2_.data() == nullptr || visible_.data() == nullptr) {
+            return Status(StatusCode::kOutOfMemory, "DescentMapper::init: arena smaller than workspaceBytes(config)",
+                          static_cast<std::int64_t>(workspaceBytes(config)));
+        }
+    }
     if (image1_.data() == nullptr || image2_.data() == nullptr || depth_.data() == nullptr ||
         reason_.data() == nullptr || elevation_.data() == nullptr || count_.data() == nullptr) {
         return Status(StatusCode::kOutOfMemory, "DescentMapper::init: arena smaller than workspaceBytes(config)",
@@ -154,6 +196,14 @@ Status DescentMapper::poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseE
     return finish(stage, st, st.isOk() ? positionSigmaMm(pose) : 0, t0);
 }
 
+Status DescentMapper::setSweepRange(double zmin, double zmax) noexcept {
+    const double parallax = config_.parallax_factor * (1.0 / zmin - 1.0 / zmax) * 0.5 * (zmin + zmax);
+    VTM_RETURN_IF_ERROR(sweep_.setDepthRange(zmin, zmax, parallax < 1000.0 ? parallax : 1000.0));
+    products_.depth_min_m = zmin;
+    products_.depth_max_m = zmax;
+    return Status::ok();
+}
+
 Status DescentMapper::planGeometry() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     descent::PairGeometry& g = products_.geometry;
@@ -171,12 +221,129 @@ Status DescentMapper::planGeometry() noexcept {
         st = Status(StatusCode::kDegenerate, "geometry: image 2 is not closer than image 1 (no descent between them)");
     }
     if (st.isOk()) {
-        const double zmin = h1 * (1.0 - config_.relief_fraction);
-        const double zmax = h1 * (1.0 + config_.relief_fraction);
-        const double parallax = config_.parallax_factor * (1.0 / zmin - 1.0 / zmax) * 0.5 * (zmin + zmax);
-        st = sweep_.setDepthRange(zmin, zmax, parallax < 1000.0 ? parallax : 1000.0);
+        st = setSweepRange(h1 * (1.0 - config_.relief_fraction), h1 * (1.0 + config_.relief_fraction));
     }
-    return finish(Stage::kGeometry, st, st.isOk() ? static_cast<std::int64_t>(100.0 * h1 + 0.5) : 0, t0);
+    return finish(Stage::kGeometry, st, st.isOk() ? static_cast<std::int64_t>(std::floor(100.0 * h1 + 0.5)) : 0, t0);
+}
+
+namespace {
+
+// The top 8 bits of a frame of bit_depth significant bits (the feature modules are 8-bit).
+void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth, const ImageView<std::uint8_t>& out) noexcept {
+    const std::uint32_t shift = bit_depth > 8U ? static_cast<std::uint32_t>(bit_depth) - 8U : 0U;
+    for (std::int32_t y = 0; y < in.height(); ++y) {
+        const std::uint16_t* src = in.row(y);
+        std::uint8_t* dst = out.row(y);
+        for (std::int32_t x = 0; x < in.width(); ++x) {
+            const std::uint32_t v = static_cast<std::uint32_t>(src[x]) >> shift;
+            dst[x] = static_cast<std::uint8_t>(v > 255U ? 255U : v);
+        }
+    }
+}
+
+// Longest ray length (metres) to a plane at depth z seen anywhere in the image: the
+// corner rays of a pinhole are the longest.
+double cornerRange(const CameraModel& m, double z) noexcept {
+    const double dx = (m.cx_px + 0.5 > 0.5 * m.width_px) ? m.cx_px + 0.5 : m.width_px - 0.5 - m.cx_px;
+    const double dy = (m.cy_px + 0.5 > 0.5 * m.height_px) ? m.cy_px + 0.5 : m.height_px - 0.5 - m.cy_px;
+    const double ux = dx / m.fx_px;
+    const double uy = dy / m.fy_px;
+    return z * math::sqrt(1.0 + ux * ux + uy * uy);
+}
+
+}  // namespace
+
+Status DescentMapper::matchFeatures(const features::MatchPrediction& prediction) noexcept {
+    features::VisibilityPrior prior;
+    prior.up_a = products_.geometry.pose1.R_site_from_cam.transpose() * Vec3(0.0, 0.0, -1.0);
+    prior.camera_height_m = -products_.geometry.pose1.position_site_m.z();
+    prior.margin_px = config_.match_margin_px;
+    std::int64_t visible = 0;
+    VTM_RETURN_IF_ERROR(features::predictVisibility(prediction, prior, visible_, visible));
+    if (visible == 0) {
+        return Status(StatusCode::kDegenerate, "refine: the odometry says image 2 sees none of image 1");
+    }
+    VTM_RETURN_IF_ERROR(detector_.detect(grey1_, features_, nullptr, visible_));
+    return matcher_.match(grey1_, grey2_, features_, prediction, matches_, &products_.matching);
+}
+
+// The sweep's depth range from the refined features: their depths along camera 1's axis
+// (range times the ray's axial component), min .. max widened by feature_depth_margin of
+// the median on each side. Bounded: one pass over the inliers, one insertion sort-free
+// median estimate (the mean of min and max is used as the scale).
+Status DescentMapper::depthRangeFromFeatures() noexcept {
+    double lo = 0.0;
+    double hi = 0.0;
+    std::int32_t n = 0;
+    for (std::int32_t i = 0; i < matches_.count; ++i) {
+        if (inliers_[i] == 0U || !math::isFinite(ranges_[i])) {
+            continue;
+        }
+        CameraRay ray;
+        if (!backProjectPixel(model_, pixels_a_[i], ray).isOk()) {
+            continue;
+        }
+        const double depth = ray.origin_m.z() + ranges_[i] * ray.direction.z();
+        lo = (n == 0 || depth < lo) ? depth : lo;
+        hi = (n == 0 || depth > hi) ? depth : hi;
+        ++n;
+    }
+    if (n == 0 || !(lo > 0.0)) {
+        return Status(StatusCode::kDegenerate, "refine: no inlier with a depth in front of camera 1");
+    }
+    const double margin = config_.feature_depth_margin * 0.5 * (lo + hi);
+    const double zmin = lo - margin > 0.05 * lo ? lo - margin : 0.05 * lo;
+    return setSweepRange(zmin, hi + margin);
+}
+
+Status DescentMapper::refinePose() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    descent::CameraPose& p1 = products_.geometry.pose1;
+    descent::CameraPose& p2 = products_.geometry.pose2;
+    toGrey8(image1_, products_.frame1.bit_depth, grey1_);
+    toGrey8(image2_, products_.frame2.bit_depth, grey2_);
+    // Camera frames: X2 = R X1 + t.
+    const Mat3 R = p2.R_site_from_cam.transpose() * p1.R_site_from_cam;
+    const Vec3 t = p2.R_site_from_cam.transpose() * (p1.position_site_m - p2.position_site_m);
+    features::MatchPrediction prediction;
+    prediction.model_a = &model_;
+    prediction.model_b = &model_;
+    prediction.R_b_from_a = R;
+    prediction.t_b_from_a_m = t;
+    prediction.range_min_m = sweep_.config().depth_min_m;
+    prediction.range_max_m = cornerRange(model_, sweep_.config().depth_max_m);
+    prediction.margin_px = config_.match_margin_px;
+    prediction.surface_normal_a = p1.R_site_from_cam.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
+    Status st = matchFeatures(prediction);
+    if (st.isOk()) {
+        for (std::int32_t i = 0; i < matches_.count; ++i) {
+            pixels_a_[i] = matches_.items[i].pixel_a;
+            pixels_b_[i] = matches_.items[i].pixel_b;
+        }
+        motion::MotionInput input;
+        input.model_a = &model_;
+        input.model_b = &model_;
+        input.R_b_from_a = R;
+        input.t_b_from_a_m = t;
+        const auto n = static_cast<std::size_t>(matches_.count);
+        input.pixels_a = Span<const Vec2>(pixels_a_, n);
+        input.pixels_b = Span<const Vec2>(pixels_b_, n);
+        motion::MotionConfig mc = config_.motion;
+        mc.range_min_m = prediction.range_min_m;
+        mc.range_max_m = prediction.range_max_m;
+        st = refiner_.refine(input, mc, products_.motion, Span<std::uint8_t>(inliers_, n), Span<double>(ranges_, n));
+    }
+    if (st.isOk()) {
+        const motion::MotionResult& m = products_.motion;
+        constexpr double kDegPerRad = 180.0 / math::kPi;
+        products_.refine_rotation_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, R);
+        products_.refine_direction_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, t);
+        // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
+        p2.R_site_from_cam = p1.R_site_from_cam * m.R_b_from_a.transpose();
+        p2.position_site_m = p1.position_site_m - p2.R_site_from_cam * m.t_b_from_a_m;
+        st = depthRangeFromFeatures();
+    }
+    return finish(Stage::kRefine, st, st.isOk() ? products_.motion.inliers : products_.matching.matched, t0);
 }
 
 Status DescentMapper::runSweep() noexcept {
@@ -225,11 +392,18 @@ Status DescentMapper::map() noexcept {
     if (!initialized_) {
         return Status(StatusCode::kNotInitialized, "DescentMapper::map: init() has not succeeded");
     }
+    products_.matching = features::MatchStats{};
+    products_.motion = motion::MotionResult{};
+    products_.refine_rotation_deg = 0.0;
+    products_.refine_direction_deg = 0.0;
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture1, image1_, products_.frame1));
     VTM_RETURN_IF_ERROR(poseOf(Stage::kPose1, products_.frame1, pose1_));
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture2, image2_, products_.frame2));
     VTM_RETURN_IF_ERROR(poseOf(Stage::kPose2, products_.frame2, pose2_));
     VTM_RETURN_IF_ERROR(planGeometry());
+    if (config_.refine_pose) {
+        VTM_RETURN_IF_ERROR(refinePose());
+    }
     VTM_RETURN_IF_ERROR(runSweep());
     VTM_RETURN_IF_ERROR(runGrid());
     products_.depth_m = depth_;

@@ -11,6 +11,7 @@ const char* stageName(Stage stage) noexcept {
         case Stage::kCapture2: return "capture2";
         case Stage::kPose2: return "pose2";
         case Stage::kGeometry: return "geometry";
+        case Stage::kRefine: return "refine";
         case Stage::kSweep: return "sweep";
         case Stage::kGrid: return "grid";
         case Stage::kNone: break;

@@ -8,6 +8,12 @@
 //   geometry  camera poses from the vehicle poses and the mount; the depth range from
 //             camera 1's height above the site datum, +-relief_fraction; image 2 must be
 //             the closer one
+//   refine    (refine_pose) the relative pose from the images, as the paper does before
+//             the sweep: Förstner features of image 1 where image 2 sees it, guided
+//             template matching into image 2 (templates warped for the ground plane, so
+//             the scale change between the frames is in the warp), MotionRefiner (LM over
+//             rotation and translation direction; the baseline length stays the
+//             odometry's); camera 2's pose is replaced by the refined one
 //   sweep     descent::PlaneSweep: depth of every pixel of image 1 (or a reason)
 //   grid      descent::elevationGrid on a fixed grid centred under camera 1
 // Every stage leaves a StageRecord (Status, quality figure, time from hal::Clock) in
@@ -33,24 +39,48 @@
 #include "vtm/core/image.hpp"
 #include "vtm/core/span.hpp"
 #include "vtm/descent/plane_sweep.hpp"
+#include "vtm/features/features.hpp"
+#include "vtm/motion/motion_refiner.hpp"
 
 namespace vtm::app {
 
 constexpr std::int32_t kMaxGridCells = 4096;  // elevation grid side
+
+// The refiner's defaults plus a rotation prior of 0.003 rad (0.17 deg) per axis: a lander
+// knows its attitude from its IMU far better than its position, and without the prior a
+// narrow view of near-planar ground along the optical axis cannot tell a small rotation
+// from a change of translation direction (docs/app.md "Accuracy").
+[[nodiscard]] motion::MotionConfig descentMotionConfig() noexcept;
 
 struct DescentMapperConfig {
     // The plane sweep. max_width x max_height must be the camera's frame size; depth_min_m,
     // depth_max_m and min_parallax_px are replaced per pair (see below).
     descent::Config sweep{};
     CameraMount mount{};  // the nadir camera on the lander
-    // Depth range of each pair: camera 1's height h above the site datum times
-    // (1 - relief_fraction) .. (1 + relief_fraction). 0.01..0.9.
-    double relief_fraction = 0.15;
+    // Depth range of each pair before refinement (the matching's prediction; the sweep's
+    // range without refine_pose): camera 1's height h above the site datum times
+    // (1 - relief_fraction) .. (1 + relief_fraction). 0.01..0.9. Wide by default: near the
+    // ground the navigation's height may be off by more than 10 %.
+    double relief_fraction = 0.3;
     // Focus-of-expansion mask: min_parallax_px = parallax_factor * (1/zmin - 1/zmax) * zmid.
     // A pixel whose image-2 position moves P px over the range knows its depth to about
     // (0.25 px / P) of the range width: 20 keeps pixels known to ~1.25 % of the range
     // (docs/app.md has the measured trade-off). 0..1000.
     double parallax_factor = 20.0;
+    // Relative-pose refinement from the images (stage refine). The detector's and the
+    // matcher's capacity must be the camera's frame size; motion's range limits are
+    // replaced per pair by the depth range (widened to the image corners).
+    bool refine_pose = true;
+    features::DetectorConfig detector{};
+    features::MatcherConfig matcher{};
+    motion::MotionConfig motion = descentMotionConfig();
+    // Matching window around the odometry's prediction, image-2 pixels (its position and
+    // attitude error seen in image 2), 0..1000.
+    double match_margin_px = 16.0;
+    // After refinement the sweep's depth range is the inlier features' depth range
+    // widened by this fraction of their median depth on each side (the odometry's height
+    // above the datum may be off by far more than the relief near the ground). 0..0.9.
+    double feature_depth_margin = 0.05;
     std::int32_t grid_cells = 512;  // elevation grid side, 16..kMaxGridCells
     // Grid cell, metres: > 0, or 0 for one image-1 pixel at camera 1's height (h / fx).
     double grid_cell_m = 0.0;
@@ -73,6 +103,14 @@ struct DescentProducts {
     hal::FrameInfo frame1{};
     hal::FrameInfo frame2{};
     descent::SweepStats sweep{};
+    // refine: what the images said about the odometry's relative pose (zero when
+    // refine_pose is off): matches, inliers, RMS, and the correction applied to camera 2.
+    features::MatchStats matching{};
+    motion::MotionResult motion{};
+    double refine_rotation_deg = 0.0;    // angle between the odometry's and the refined rotation
+    double refine_direction_deg = 0.0;   // angle between the translation directions
+    double depth_min_m = 0.0;            // the depth range swept (geometry, or refine's)
+    double depth_max_m = 0.0;
     std::int64_t cells_filled = 0;
     std::int64_t points_outside = 0;         // valid depths that fell outside the grid
 };
@@ -106,6 +144,10 @@ private:
     [[nodiscard]] Status capture(Stage stage, const ImageView<std::uint16_t>& image, hal::FrameInfo& info) noexcept;
     [[nodiscard]] Status poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept;
     [[nodiscard]] Status planGeometry() noexcept;
+    [[nodiscard]] Status refinePose() noexcept;
+    [[nodiscard]] Status matchFeatures(const features::MatchPrediction& prediction) noexcept;
+    [[nodiscard]] Status depthRangeFromFeatures() noexcept;
+    [[nodiscard]] Status setSweepRange(double zmin, double zmax) noexcept;
     [[nodiscard]] Status runSweep() noexcept;
     [[nodiscard]] Status runGrid() noexcept;
     // Records a stage that began at t0_ns and returns its status.
@@ -118,6 +160,18 @@ private:
     hal::EventLog* events_ = nullptr;
     CameraModel model_{};
     descent::PlaneSweep sweep_{};
+    features::ForstnerDetector detector_{};
+    features::TemplateMatcher matcher_{};
+    motion::MotionRefiner refiner_{};
+    features::FeatureSet features_{};
+    features::MatchSet matches_{};
+    Vec2 pixels_a_[features::kMaxFeatures];
+    Vec2 pixels_b_[features::kMaxFeatures];
+    double ranges_[features::kMaxFeatures] = {};     // refined range along image 1's ray (NaN: outlier)
+    std::uint8_t inliers_[features::kMaxFeatures] = {};
+    ImageView<std::uint8_t> grey1_{};  // 8-bit copies for the feature modules
+    ImageView<std::uint8_t> grey2_{};
+    ImageView<std::uint8_t> visible_{};  // image 1's part that image 2 sees (prediction)
     ImageView<std::uint16_t> image1_{};
     ImageView<std::uint16_t> image2_{};
     ImageView<float> depth_{};

@@ -23,8 +23,9 @@ enum class Stage : std::uint8_t {
     kCapture2 = 3,
     kPose2 = 4,
     kGeometry = 5,  // quality: camera 1's height above the site datum, centimetres
-    kSweep = 6,     // quality: pixels with a depth
-    kGrid = 7,      // quality: grid cells with an elevation
+    kRefine = 6,    // quality: inliers of the refined relative pose (failed: the matches found)
+    kSweep = 7,     // quality: pixels with a depth
+    kGrid = 8,      // quality: grid cells with an elevation
 };
 constexpr std::uint16_t kEventStageBase = 0x0A00U;
 
