@@ -52,7 +52,7 @@ World& world() {
         std::string text = s.str();
         setValue(text, "width_px", std::to_string(kSize));
         setValue(text, "height_px", std::to_string(kSize));
-        setValue(text, "samples_log2", "8");
+        setValue(text, "samples_log2", "7");
         if (!sim::parseScenario(text, made->scenario).isOk()) {
             return made;
         }
@@ -88,7 +88,7 @@ DescentMapperConfig smallConfig() {
     c.sweep.planes = 32;
     c.sweep.window = 7;  // 256 x 256: the default 11 is for 1024 x 1024 (docs/descent.md)
     c.mount = mountOf(world().frames.frames[0]);
-    c.grid_cells = 256;
+    c.grid_cells = 128;  // cells of two pixels: the whole footprint of image 1
     c.detector.max_width = kSize;
     c.detector.max_height = kSize;
     c.detector.grid_cols = 8;

@@ -7,6 +7,7 @@
 //   vtm rectify    rectified pair from two images and their poses (wide_baseline_command.hpp)
 //   vtm descent    elevation map from two descent images (descent_command.hpp)
 //   vtm eval       accuracy of a disparity map against ground truth (eval_command.hpp)
+//   vtm run        fly a simulated mission in process: products and report (run_command.hpp)
 // docs/tools.md describes the commands, the file formats and the exit codes.
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include "stereo_command.hpp"
 #include "wide_baseline_command.hpp"
 #include "descent_command.hpp"
+#include "run_command.hpp"
 
 namespace {
 
@@ -73,6 +75,8 @@ int main(int argc, char** argv) {
     CLI::App* descent = vtm::tools::addDescentCommand(app, descent_options);
     vtm::tools::EvalOptions eval_options;
     CLI::App* eval = vtm::tools::addEvalCommand(app, eval_options);
+    vtm::tools::RunOptions run_options;
+    CLI::App* run = vtm::tools::addRunCommand(app, run_options);
     // Usage errors in one line, like every other vtm error.
     app.failure_message([](const CLI::App*, const CLI::Error& e) {
         return std::string("vtm: ") + e.what() + " (--help for usage)\n";
@@ -105,6 +109,9 @@ int main(int argc, char** argv) {
     }
     if (eval->parsed()) {
         return vtm::tools::runEval(eval_options);
+    }
+    if (run->parsed()) {
+        return vtm::tools::runMission(run_options);
     }
     printVersion();
     printBuild();

@@ -362,7 +362,7 @@ Status DescentMapper::runGrid() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     const descent::CameraPose& p1 = products_.geometry.pose1;
     const double h1 = -p1.position_site_m.z();
-    const double cell = config_.grid_cell_m > 0.0 ? config_.grid_cell_m : h1 / model_.fx_px;
+    const double cell = config_.grid_cell_m > 0.0 ? config_.grid_cell_m : 2.0 * h1 / model_.fx_px;
     const double half = 0.5 * static_cast<double>(config_.grid_cells) * cell;
     descent::GridSpec& grid = products_.grid;
     grid.cell_m = cell;

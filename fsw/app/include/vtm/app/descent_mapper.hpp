@@ -82,7 +82,8 @@ struct DescentMapperConfig {
     // above the datum may be off by far more than the relief near the ground). 0..0.9.
     double feature_depth_margin = 0.05;
     std::int32_t grid_cells = 512;  // elevation grid side, 16..kMaxGridCells
-    // Grid cell, metres: > 0, or 0 for one image-1 pixel at camera 1's height (h / fx).
+    // Grid cell, metres: > 0, or 0 for two image-1 pixels at camera 1's height (2 h / fx:
+    // with one pixel per cell the pixels' footprints leave empty seams between cells).
     double grid_cell_m = 0.0;
 
     // kOk, or kInvalidConfig naming the field (the sweep's own fields as

@@ -1,0 +1,124 @@
+// `vtm run` as a user runs it (the README's main-job command on a smaller frame size):
+// the built-in descent flown in process, its products and report on disk; each pair's
+// depth against the true depth that `vtm-sim render` writes for the same scenario (a
+// separate program rendering the same world), and bad inputs as one line naming them.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "vtm/ground/image_io.hpp"
+#include "vtm/ground/pfm.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+int run(const std::string& command, const std::string& dir, std::string& err) {
+    const std::string cmd = command + " >'" + dir + "/out.txt' 2>'" + dir + "/err.txt'";
+    const int status = std::system(cmd.c_str());
+    err = slurp(dir + "/err.txt");
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+class VtmRunCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = (fs::temp_directory_path() / ("vtm_run_cli_" + std::to_string(::getpid()))).string();
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string dir_;
+};
+
+TEST_F(VtmRunCli, FliesTheBuiltInDescentAndItsDepthMatchesTheRenderedTruth) {
+    std::string err;
+    const std::string out = dir_ + "/run";
+    ASSERT_EQ(run("'" VTM_EXECUTABLE "' run --size 256 --out '" + out + "'", dir_, err), 0) << err;
+    EXPECT_NE(err.find("pair 4/4 mapped"), std::string::npos) << err;
+    const std::string md = slurp(out + "/report.md");
+    const std::string html = slurp(out + "/report.html");
+    EXPECT_NE(md.find("![elevation](pair0_elevation.png)"), std::string::npos);
+    EXPECT_NE(html.find("<img src=\"pair3_elevation.png\">"), std::string::npos);
+    // The same scenario at the same size, rendered with its truth by the simulator's CLI.
+    std::string scn = slurp(std::string(VTM_SCENARIO_DIR) + "/descent.scn");
+    for (const char* key : {"width_px 1024", "height_px 1024"}) {
+        scn.replace(scn.find(key), std::string(key).size(), std::string(key).substr(0, 9) + " 256");
+    }
+    std::ofstream(dir_ + "/d256.scn") << scn;
+    ASSERT_EQ(run("'" VTM_SIM_EXECUTABLE "' render '" + dir_ + "/d256.scn' '" + dir_ + "/sim' --frames 0,2,4,6", dir_, err), 0)
+        << err;
+    for (int pair = 0; pair < 4; ++pair) {
+        SCOPED_TRACE("pair " + std::to_string(pair));
+        const std::string p = out + "/pair" + std::to_string(pair);
+        for (const char* suffix : {"_image1.png", "_image2.png"}) {
+            const auto png = vtm::ground::loadGrey16(p + suffix);
+            ASSERT_TRUE(png.ok) << png.error;
+            EXPECT_EQ(png.value.width, 256);
+        }
+        for (const char* suffix : {"_elevation.png", "_depth.png"}) {  // RGB: signature and a non-empty IHDR
+            const std::string png = slurp(p + suffix);
+            ASSERT_GT(png.size(), 24U) << suffix;
+            EXPECT_EQ(png.substr(1, 3), "PNG") << suffix;
+            EXPECT_EQ(png.substr(12, 4), "IHDR") << suffix;
+            EXPECT_GT(static_cast<unsigned char>(png[18]) * 256 + static_cast<unsigned char>(png[19]), 16) << suffix;
+        }
+        const auto depth = vtm::ground::readPfm(p + "_depth.pfm");
+        char truth_name[64];
+        std::snprintf(truth_name, sizeof truth_name, "/sim/nadir_%03d_depth.pfm", 2 * pair);
+        const auto truth = vtm::ground::readPfm(dir_ + truth_name);
+        ASSERT_TRUE(depth.ok && truth.ok) << depth.error << truth.error;
+        ASSERT_TRUE(depth.value.sameSize(truth.value));
+        std::vector<double> rel;
+        for (std::size_t i = 0; i < depth.value.pixels.size(); ++i) {
+            const float d = depth.value.pixels[i];
+            const float t = truth.value.pixels[i];
+            if (std::isfinite(d) && std::isfinite(t)) rel.push_back(std::fabs(d - t) / t);
+        }
+        ASSERT_GT(rel.size(), depth.value.pixels.size() / 10);  // the overlap is ~1/4 of image 1
+        std::sort(rel.begin(), rel.end());
+        EXPECT_LT(rel[rel.size() / 2], 0.015);  // median relative depth error (measured 0.24-0.73 %)
+        // The point cloud holds one vertex per pixel with a depth.
+        const std::string ply = slurp(p + "_points.ply");
+        const std::size_t at = ply.find("element vertex ");
+        ASSERT_NE(at, std::string::npos);
+        std::size_t with_depth = 0;
+        for (const float d : depth.value.pixels) with_depth += std::isfinite(d) ? 1U : 0U;
+        EXPECT_EQ(std::stoul(ply.substr(at + 15)), with_depth);
+    }
+}
+
+TEST_F(VtmRunCli, BadInputsExitNonZeroWithOneLineNamingTheInput) {
+    std::string err;
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" + dir_ + "/missing.scn' --out '" + dir_ + "/o'", dir_, err), 1);
+    EXPECT_NE(err.find("missing.scn: cannot open"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" VTM_SCENARIO_DIR "/rover_wide_baseline.scn' --out '" + dir_ + "/o'", dir_,
+                  err),
+              1);
+    EXPECT_NE(err.find("only descent scenarios fly today"), std::string::npos) << err;
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run --size 8 --out '" + dir_ + "/o'", dir_, err), 1);
+    EXPECT_NE(err.find("--size 8: must be 64..2048"), std::string::npos) << err;
+    std::ofstream(dir_ + "/bad.scn") << "name x\nkind descent\nseed nope\n";
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" + dir_ + "/bad.scn' --out '" + dir_ + "/o'", dir_, err), 1);
+    EXPECT_NE(err.find("bad.scn: "), std::string::npos) << err;
+}
+
+}  // namespace

@@ -1,0 +1,22 @@
+// Ground-side renderings of terrain products for people: shaded relief of an elevation
+// grid and PLY point clouds. Host only (heap, stdio).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vtm/core/eigen.hpp"
+#include "vtm/ground/image.hpp"
+
+namespace vtm::ground {
+
+// RGB shaded relief of an elevation grid (metres, NaN = NO_DATA, row 0 north): colour by
+// elevation (the disparity ramp: highest red ... lowest purple, between the 1st and 99th
+// percentiles) times a Lambertian hill shade (sun from the north-west, 45 deg up; 30 %
+// ambient; a missing neighbour counts as level). NO_DATA cells are black.
+GreyImage shadedRelief(const FloatImage& elevation_m, double cell_m);
+
+// Binary little-endian PLY with float x, y, z per vertex (site frame, metres).
+Outcome writePly(const std::string& path, const std::vector<Vec3>& points);
+
+}  // namespace vtm::ground

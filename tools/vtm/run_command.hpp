@@ -1,0 +1,25 @@
+// `vtm run [SCENARIO] [--out DIR] [--size N]`: the main job. Flies a simulated mission in
+// process: the scenario's world and frames (sim/), the simulated drivers (hal/sim) and
+// the flight executive (fsw/app), then writes the products and a report (Markdown and
+// HTML with the pictures) whose accuracy figures come from this run against the
+// simulator's truth. With no SCENARIO the built-in descent (sim/scenarios/descent.scn,
+// compiled in) is flown. docs/run.md.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace vtm::tools {
+
+struct RunOptions {
+    std::string scenario;         // a .scn file; empty: the built-in descent
+    std::string out_dir = "vtm-run";
+    int size_px = 0;              // > 0: override the camera's width and height (quick runs)
+};
+
+CLI::App* addRunCommand(CLI::App& app, RunOptions& options);
+// Exit code (exit_codes.hpp): 0 when every request was mapped, 1 when a request failed
+// (its stage and reason on stderr and in the report) or an input was bad.
+int runMission(const RunOptions& options);
+
+}  // namespace vtm::tools
