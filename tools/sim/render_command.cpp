@@ -18,6 +18,7 @@
 #include "sim/scenario.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/arena.hpp"
+#include "vtm/ground/sim_world.hpp"
 #include "vtm/ground/camera_model_io.hpp"
 #include "vtm/ground/image_io.hpp"
 #include "vtm/ground/pfm.hpp"
@@ -120,15 +121,7 @@ ground::FloatImage skyAsInfinity(ground::FloatImage image) {
     return image;
 }
 
-struct World {
-    sim::Scenario scenario;
-    std::vector<std::byte> storage;
-    std::unique_ptr<Arena> arena;
-    sim::Terrain terrain;
-    std::unique_ptr<sim::ScenarioFrames> frames = std::make_unique<sim::ScenarioFrames>();
-    std::string scenario_text;
-    double terrain_seconds = 0.0;
-};
+using World = ground::SimWorld;
 
 bool loadWorld(const std::string& path, World& w, Error& error) {
     std::ifstream in(path, std::ios::binary);
@@ -138,24 +131,9 @@ bool loadWorld(const std::string& path, World& w, Error& error) {
     }
     std::stringstream text;
     text << in.rdbuf();
-    w.scenario_text = text.str();
-    const Status parsed = sim::parseScenario(w.scenario_text, w.scenario);
-    if (!parsed.isOk()) {
-        error = {"vtm-sim: " + path + ": line " + std::to_string(parsed.detail()) + ": " + parsed.reason()};
-        return false;
-    }
-    const auto start = SteadyClock::now();
-    w.storage.resize(sim::scenarioTerrainBytes(w.scenario));
-    w.arena = std::make_unique<Arena>(w.storage.data(), w.storage.size());
-    const Status built = sim::buildScenarioTerrain(w.scenario, *w.arena, w.terrain);
-    if (!built.isOk()) {
-        error = {"vtm-sim: " + path + ": terrain: " + built.reason()};
-        return false;
-    }
-    w.terrain_seconds = secondsSince(start);
-    const Status framed = sim::buildScenarioFrames(w.scenario, w.terrain, *w.frames);
-    if (!framed.isOk()) {
-        error = {"vtm-sim: " + path + ": " + framed.reason()};
+    const std::string e = ground::buildSimWorld(text.str(), w);
+    if (!e.empty()) {
+        error = {"vtm-sim: " + path + ": " + e};
         return false;
     }
     return true;
@@ -390,7 +368,7 @@ int runRender(const RenderOptions& options) {
     }
     const bool ok = writePoseLogs(w, options.outdir, error) &&
                     writeCameraFiles(w, selected, options.outdir, options.format, error) &&
-                    writeText(options.outdir + "/scenario.scn", w.scenario_text, error) &&
+                    writeText(options.outdir + "/scenario.scn", w.text, error) &&
                     writeText(options.outdir + "/README.md", readme(w, reports, options.format), error);
     return ok ? tools::kExitOk : fail(error);
 }

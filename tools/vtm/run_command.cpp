@@ -22,6 +22,7 @@
 #include "vtm/ground/disparity_colormap.hpp"
 #include "vtm/ground/image_io.hpp"
 #include "vtm/ground/pfm.hpp"
+#include "vtm/ground/sim_world.hpp"
 #include "vtm/ground/terrain_products.hpp"
 
 namespace vtm::tools {
@@ -49,13 +50,7 @@ bool setValue(std::string& text, const std::string& key, const std::string& valu
     return true;
 }
 
-struct World {
-    sim::Scenario scenario;
-    std::vector<std::byte> pool;
-    std::unique_ptr<Arena> arena;
-    sim::Terrain terrain;
-    std::unique_ptr<sim::ScenarioFrames> frames = std::make_unique<sim::ScenarioFrames>();
-};
+using World = ground::SimWorld;
 
 std::string buildWorld(const RunOptions& o, World& w, std::string& label) {
     std::string text;
@@ -77,19 +72,16 @@ std::string buildWorld(const RunOptions& o, World& w, std::string& label) {
             return label + ": no camera width_px / height_px to override with --size";
         }
     }
-    const Status st = sim::parseScenario(text, w.scenario);
-    if (!st.isOk()) return label + ": " + st.reason() + " (line " + std::to_string(st.detail()) + ")";
-    if (w.scenario.kind != sim::ScenarioKind::kDescent) {
+    sim::Scenario probe;
+    const Status st = sim::parseScenario(text, probe);
+    if (!st.isOk()) return label + ": line " + std::to_string(st.detail()) + ": " + st.reason();
+    if (probe.kind != sim::ScenarioKind::kDescent) {
         return label + ": only descent scenarios fly today (the rover's executive, WideBaselineMapper, is issue 7's "
                        "next part)";
     }
     std::fprintf(stderr, "vtm run: building the world of %s\n", label.c_str());
-    w.pool.assign(sim::scenarioTerrainBytes(w.scenario) + 64U, std::byte{0});
-    w.arena = std::make_unique<Arena>(w.pool.data(), w.pool.size());
-    Status b = sim::buildScenarioTerrain(w.scenario, *w.arena, w.terrain);
-    if (b.isOk()) b = sim::buildScenarioFrames(w.scenario, w.terrain, *w.frames);
-    if (!b.isOk()) return label + ": " + b.reason();
-    return "";
+    const std::string built = ground::buildSimWorld(text, w);
+    return built.empty() ? "" : label + ": " + built;
 }
 
 // The mapper's configuration for the scenario's camera: the flight defaults at 1024 x 1024

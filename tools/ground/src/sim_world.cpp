@@ -1,0 +1,28 @@
+#include "vtm/ground/sim_world.hpp"
+
+#include <chrono>
+
+namespace vtm::ground {
+
+std::string buildSimWorld(const std::string& text, SimWorld& w) {
+    w.text = text;
+    const Status parsed = sim::parseScenario(w.text, w.scenario);
+    if (!parsed.isOk()) {
+        return "line " + std::to_string(parsed.detail()) + ": " + parsed.reason();
+    }
+    const auto start = std::chrono::steady_clock::now();
+    w.storage.assign(sim::scenarioTerrainBytes(w.scenario), std::byte{0});
+    w.arena = std::make_unique<Arena>(w.storage.data(), w.storage.size());
+    const Status built = sim::buildScenarioTerrain(w.scenario, *w.arena, w.terrain);
+    if (!built.isOk()) {
+        return std::string("terrain: ") + built.reason();
+    }
+    w.terrain_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const Status framed = sim::buildScenarioFrames(w.scenario, w.terrain, *w.frames);
+    if (!framed.isOk()) {
+        return framed.reason();
+    }
+    return "";
+}
+
+}  // namespace vtm::ground
