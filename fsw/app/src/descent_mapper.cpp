@@ -268,9 +268,8 @@ Status DescentMapper::matchFeatures(const features::MatchPrediction& prediction)
 }
 
 // The sweep's depth range from the refined features: their depths along camera 1's axis
-// (range times the ray's axial component), min .. max widened by feature_depth_margin of
-// the median on each side. Bounded: one pass over the inliers, one insertion sort-free
-// median estimate (the mean of min and max is used as the scale).
+// (range times the ray's axial component), min .. max widened on each side by
+// feature_depth_margin times the middle of that range. One pass over the matches.
 Status DescentMapper::depthRangeFromFeatures() noexcept {
     double lo = 0.0;
     double hi = 0.0;
