@@ -4,6 +4,7 @@
 #include "hal/file/file_camera.hpp"
 #include "hal/file/file_limits.hpp"
 #include "hal/file/file_odometry.hpp"
+#include "vtm/app/descent_mapper.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
 namespace vtm::tools {
@@ -23,9 +24,15 @@ std::size_t flightStereoWorkspace() {
     return stereo::MlStereo::workspaceBytes(c);
 }
 
+// The lander's executive in its default configuration: 1024 x 1024 frames, 64 planes,
+// window 11, a 512 x 512 elevation grid, refinement on (docs/app.md).
+std::size_t flightDescentWorkspace() { return app::DescentMapper::workspaceBytes(app::DescentMapperConfig{}); }
+
 const BudgetEntry kEntries[] = {
     {kF, "event log ring (hal::EventLog, 256 events)", "vtm_hal", sizeof(hal::EventLog)},
     {kF, "ML stereo workspace (1024x1024, 128 disparities)", "vtm_stereo", flightStereoWorkspace()},
+    {kF, "descent mapper object (app::DescentMapper)", "vtm_app", sizeof(app::DescentMapper)},
+    {kF, "descent mapper workspace (1024x1024, 64 planes)", "vtm_app", flightDescentWorkspace()},
     {kP, "hal::FileCamera (1024 frame records)", "vtm_hal_file", sizeof(hal::FileCamera)},
     {kP, "hal::FileOdometry (4096 poses)", "vtm_hal_file", sizeof(hal::FileOdometry)},
     {kP, "frame file buffer (shared)", "vtm_hal_file", hal::file_limits::kMaxFrameFileBytes},
