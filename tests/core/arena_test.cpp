@@ -87,5 +87,16 @@ TEST(Arena, AllocationsTouchNoHeap) {
     EXPECT_EQ(guard.heapCalls(), 0U);
 }
 
+// arrayBytes<T> is enough for allocateArray<T> from a pool that starts at any offset.
+TEST(Arena, ArrayBytesCoversTheWorstAlignmentPadding) {
+    alignas(64) std::byte storage[256 + 64];
+    for (std::size_t offset = 0; offset < 16; ++offset) {
+        Arena arena(storage + offset, Arena::arrayBytes<double>(10));
+        EXPECT_EQ(arena.allocateArray<double>(10).size(), 10U) << offset;
+        Arena small(storage + offset, 10 * sizeof(double) - 1);
+        EXPECT_TRUE(small.allocateArray<double>(10).empty()) << offset;
+    }
+}
+
 }  // namespace
 }  // namespace vtm

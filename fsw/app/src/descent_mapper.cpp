@@ -26,12 +26,6 @@ Buffers buffersOf(const DescentMapperConfig& c) noexcept {
 }
 
 template <typename T>
-std::size_t bytesOf(std::size_t count) noexcept {
-    const std::size_t align = alignof(T) > Arena::kDefaultAlignment ? alignof(T) : Arena::kDefaultAlignment;
-    return Arena::blockBytes(count * sizeof(T), align);
-}
-
-template <typename T>
 ImageView<T> carve(Arena& arena, std::int32_t width, std::int32_t height) noexcept {
     const Span<T> s = arena.allocateArray<T>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
     return s.empty() ? ImageView<T>() : ImageView<T>(s.data(), width, height);
@@ -99,14 +93,14 @@ std::size_t DescentMapper::workspaceBytes(const DescentMapperConfig& config) noe
     const std::size_t refine = config.refine_pose
                                    ? features::ForstnerDetector::workspaceBytes(config.detector)  // its own plan
                                          + features::TemplateMatcher::workspaceBytes(config.matcher)
-                                         + 3U * bytesOf<std::uint8_t>(b.pixels)  // 8-bit frames, visibility mask
+                                         + 3U * Arena::arrayBytes<std::uint8_t>(b.pixels)  // 8-bit frames, visibility mask
                                    : 0U;
     return refine + descent::PlaneSweep::workspaceBytes(config.sweep)  // the sweep's own plan
-           + 2U * bytesOf<std::uint16_t>(b.pixels)            // image 1, image 2
-           + bytesOf<float>(b.pixels)                         // depth of image 1
-           + bytesOf<std::uint8_t>(b.pixels)                  // reason per pixel
-           + bytesOf<float>(b.cells)                          // elevation grid
-           + bytesOf<std::uint16_t>(b.cells);                 // points per cell
+           + 2U * Arena::arrayBytes<std::uint16_t>(b.pixels)            // image 1, image 2
+           + Arena::arrayBytes<float>(b.pixels)                         // depth of image 1
+           + Arena::arrayBytes<std::uint8_t>(b.pixels)                  // reason per pixel
+           + Arena::arrayBytes<float>(b.cells)                          // elevation grid
+           + Arena::arrayBytes<std::uint16_t>(b.cells);                 // points per cell
 }
 
 Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal::Camera& camera,

@@ -32,12 +32,6 @@ Sizes sizesOf(const Config& c) noexcept {
     return s;
 }
 
-template <typename T>
-std::size_t bytesOf(std::size_t count) noexcept {
-    const std::size_t align = alignof(T) > Arena::kDefaultAlignment ? alignof(T) : Arena::kDefaultAlignment;
-    return Arena::blockBytes(count * sizeof(T), align);
-}
-
 }  // namespace
 
 Status Config::validate() const noexcept {
@@ -79,16 +73,16 @@ std::size_t PlaneSweep::workspaceBytes(const Config& config) noexcept {
         return 0U;
     }
     const Sizes s = sizesOf(config);
-    // Term by term, in the order init() carves them; bytesOf adds worst-case padding.
-    return bytesOf<double>(9U * s.planes) + bytesOf<double>(s.planes)    // homographies, 1/z
-           + bytesOf<std::uint16_t>(s.image)                              // prefiltered image 2
-           + bytesOf<std::int32_t>(s.width)                               // prefilter row
-           + bytesOf<std::uint16_t>(s.warped) + bytesOf<std::uint8_t>(s.warped)  // warped band, inside flags
-           + bytesOf<std::int32_t>(s.width) + 2U * bytesOf<std::int64_t>(s.width)  // column sums A, B, C
-           + bytesOf<std::int32_t>(s.width)                               // column inside counts
-           + bytesOf<std::int32_t>(s.band) + bytesOf<std::int64_t>(s.band)  // image-1 window sums (NCC)
-           + 4U * bytesOf<float>(s.band)                                  // best, previous, below, above cost
-           + bytesOf<std::int16_t>(s.band);                               // best plane
+    // Term by term, in the order init() carves them; Arena::arrayBytes adds worst-case padding.
+    return Arena::arrayBytes<double>(9U * s.planes) + Arena::arrayBytes<double>(s.planes)    // homographies, 1/z
+           + Arena::arrayBytes<std::uint16_t>(s.image)                              // prefiltered image 2
+           + Arena::arrayBytes<std::int32_t>(s.width)                               // prefilter row
+           + Arena::arrayBytes<std::uint16_t>(s.warped) + Arena::arrayBytes<std::uint8_t>(s.warped)  // warped band, inside flags
+           + Arena::arrayBytes<std::int32_t>(s.width) + 2U * Arena::arrayBytes<std::int64_t>(s.width)  // column sums A, B, C
+           + Arena::arrayBytes<std::int32_t>(s.width)                               // column inside counts
+           + Arena::arrayBytes<std::int32_t>(s.band) + Arena::arrayBytes<std::int64_t>(s.band)  // image-1 window sums (NCC)
+           + 4U * Arena::arrayBytes<float>(s.band)                                  // best, previous, below, above cost
+           + Arena::arrayBytes<std::int16_t>(s.band);                               // best plane
 }
 
 Status PlaneSweep::init(const Config& config, Arena& arena) noexcept {

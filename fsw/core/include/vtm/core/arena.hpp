@@ -44,6 +44,13 @@ public:
         return (block != nullptr) ? Span<T>(static_cast<T*>(block), count) : Span<T>();
     }
 
+    // Bytes allocateArray<T>(count) needs at most (its alignment's worst padding included):
+    // the term of a workspaceBytes() formula for one array.
+    template <typename T>
+    [[nodiscard]] static constexpr std::size_t arrayBytes(std::size_t count) noexcept {
+        return blockBytes(count * sizeof(T), alignof(T) > kDefaultAlignment ? alignof(T) : kDefaultAlignment);
+    }
+
     // Ends initialisation: from now on allocate() is an assertion failure.
     void freeze() noexcept { frozen_ = true; }
     [[nodiscard]] bool frozen() const noexcept { return frozen_; }
