@@ -182,6 +182,15 @@ TEST(PlaneSweep, SlopedPlaneDepthIsRecoveredWithNcc) {
     }
 }
 
+TEST(PlaneSweep, CheckCameraAcceptsOnlyAnUndistortedPinhole) {
+    EXPECT_TRUE(checkCamera(pair().camera).isOk());
+    CameraModel distorted = pair().camera;
+    distorted.k1 = 0.01;
+    const Status st = checkCamera(distorted);
+    EXPECT_EQ(st.code(), StatusCode::kUnsupported);
+    EXPECT_NE(std::string(st.reason()).find("undistorted"), std::string::npos);
+}
+
 // A sweep initialised for another depth range and retargeted with setDepthRange() gives
 // the bits of one initialised for the right range (a lander's range changes every pair).
 TEST(PlaneSweep, SetDepthRangeRetargetsWithoutNewMemory) {

@@ -31,11 +31,6 @@ ImageView<T> carve(Arena& arena, std::int32_t width, std::int32_t height) noexce
     return s.empty() ? ImageView<T>() : ImageView<T>(s.data(), width, height);
 }
 
-bool isUndistortedPinhole(const CameraModel& m) noexcept {
-    return m.kind == CameraModelKind::kPinholeBrown && m.k1 == 0.0 && m.k2 == 0.0 && m.k3 == 0.0 && m.p1 == 0.0 &&
-           m.p2 == 0.0;
-}
-
 // Position sigma (mm) of a pose: sqrt of the trace of its position covariance.
 std::int64_t positionSigmaMm(const hal::PoseEstimate& p) noexcept {
     const double trace = p.covariance[0] + p.covariance[7] + p.covariance[14];
@@ -114,9 +109,7 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
         return Status(StatusCode::kSizeMismatch, "camera: frame size differs from sweep.max_width/max_height",
                       description.width_px);
     }
-    if (!isUndistortedPinhole(description.model)) {
-        return Status(StatusCode::kUnsupported, "camera: model is not an undistorted pinhole (undistort first)");
-    }
+    VTM_RETURN_IF_ERROR(descent::checkCamera(description.model));
     const std::size_t before = arena.usedBytes();
     VTM_RETURN_IF_ERROR(sweep_.init(config.sweep, arena));
     const std::int32_t w = config.sweep.max_width;

@@ -22,6 +22,12 @@ Status checkPinhole(const CameraModel& camera) noexcept {
     return Status::ok();
 }
 
+}  // namespace detail
+
+Status checkCamera(const CameraModel& camera) noexcept { return detail::checkPinhole(camera); }
+
+namespace detail {
+
 Status checkPose(const CameraPose& pose, const char* reason) noexcept {
     if (!pose.R_site_from_cam.allFinite() || !pose.position_site_m.allFinite()) {
         return Status(StatusCode::kInvalidArgument, reason);

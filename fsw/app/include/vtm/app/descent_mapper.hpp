@@ -125,7 +125,8 @@ public:
     // Validates the config, asks the camera for its description and carves the memory.
     // The drivers are borrowed and must outlive the mapper. kInvalidConfig (config field),
     // kSizeMismatch ("camera: frame size differs from sweep.max_width/max_height"),
-    // kUnsupported (camera model not an undistorted pinhole), kOutOfMemory (arena), or
+    // descent::checkCamera's kUnsupported / kInvalidArgument (not an undistorted, valid
+    // pinhole), kOutOfMemory (arena), or
     // the camera's describe() Status.
     [[nodiscard]] Status init(const DescentMapperConfig& config, Arena& arena, hal::Camera& camera,
                               hal::Odometry& odometry, const hal::Clock& clock, hal::EventLog& events) noexcept;

@@ -113,6 +113,11 @@ struct SweepStats {
     double prefilter_sigma_px = 0.0;
 };
 
+// kOk for a camera the sweep accepts (an undistorted, valid pinhole); kUnsupported or
+// kInvalidArgument naming what is wrong. compute() and elevationGrid() check the same;
+// an executive checks it once when it learns its camera.
+[[nodiscard]] Status checkCamera(const CameraModel& camera) noexcept;
+
 class PlaneSweep {
 public:
     // Bytes of arena for this configuration (every buffer and its padding), 0 if invalid.
