@@ -62,13 +62,13 @@ TEST(Triangulation, KnownPointsComeBackFromTheirPixelAndDisparity) {
             const Vec3 site = g.left_centre_site_m + g.R_site_from_rect * (range * dir_rect);
             double x = 0.0, y = 0.0, d = 0.0;
             project(g, site, x, y, d);
-            TerrainPoint p;
+            TerrainPoint p{};
             ASSERT_TRUE(triangulatePixel(g, limits, x, y, d, 0.25, p).isOk()) << "b " << b << " range " << range;
             const double err = (Vec3(p.x_m, p.y_m, p.z_m) - site).norm();
             EXPECT_LT(err, 2e-6 * (range + 3.0)) << "b " << b << " range " << range;  // float storage
             // sigma_range against the numeric derivative of the range with respect to d.
             const double h = 0.02;  // points are floats: a step well above their rounding
-            TerrainPoint lo, hi;
+            TerrainPoint lo{}, hi{};
             ASSERT_TRUE(triangulatePixel(g, limits, x, y, d - h, 0.25, lo).isOk());
             ASSERT_TRUE(triangulatePixel(g, limits, x, y, d + h, 0.25, hi).isOk());
             const Vec3 c = g.left_centre_site_m;
@@ -82,7 +82,7 @@ TEST(Triangulation, KnownPointsComeBackFromTheirPixelAndDisparity) {
 TEST(Triangulation, DisparitiesAtOrBeyondInfinityAndOutOfLimitsAreRefused) {
     const RectifiedGeometry g = testGeometry(0.42);
     TriangulationLimits limits;
-    TerrainPoint p;
+    TerrainPoint p{};
     const double at_infinity = g.cx_left_px - g.cx_right_px;
     EXPECT_EQ(triangulatePixel(g, limits, 300.0, 200.0, at_infinity, 0.25, p).code(), StatusCode::kNoData);
     EXPECT_EQ(triangulatePixel(g, limits, 300.0, 200.0, at_infinity - 1.0, 0.25, p).code(), StatusCode::kNoData);
@@ -147,7 +147,7 @@ GridConfig grid() {
 }
 
 TerrainPoint at(double north, double east, double up) {
-    TerrainPoint p;
+    TerrainPoint p{};
     p.x_m = static_cast<float>(north);
     p.y_m = static_cast<float>(east);
     p.z_m = static_cast<float>(-up);

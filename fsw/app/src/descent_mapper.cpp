@@ -4,6 +4,7 @@
 
 #include "vtm/core/math.hpp"
 #include "vtm/features/visibility.hpp"
+#include "request_support.hpp"
 
 namespace vtm::app {
 namespace {
@@ -25,17 +26,9 @@ Buffers buffersOf(const DescentMapperConfig& c) noexcept {
     return b;
 }
 
-template <typename T>
-ImageView<T> carve(Arena& arena, std::int32_t width, std::int32_t height) noexcept {
-    const Span<T> s = arena.allocateArray<T>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-    return s.empty() ? ImageView<T>() : ImageView<T>(s.data(), width, height);
-}
-
-// Position sigma (mm) of a pose: sqrt of the trace of its position covariance.
-std::int64_t positionSigmaMm(const hal::PoseEstimate& p) noexcept {
-    const double trace = p.covariance[0] + p.covariance[7] + p.covariance[14];
-    return static_cast<std::int64_t>(std::floor(1000.0 * math::sqrt(trace > 0.0 ? trace : 0.0) + 0.5));
-}
+using detail::carve;
+using detail::positionSigmaMm;
+using detail::toGrey8;
 
 }  // namespace
 
@@ -148,23 +141,7 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
 }
 
 Status DescentMapper::finish(Stage stage, const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept {
-    const std::uint64_t now = clock_->monotonicNs();
-    StageRecord r;
-    r.stage = stage;
-    r.status = status;
-    r.quality = quality;
-    r.duration_ns = now >= t0_ns ? now - t0_ns : 0U;
-    stages_.add(r);
-    hal::Event e;
-    e.timestamp_ns = now;
-    e.id = static_cast<std::uint16_t>(kEventStageBase + static_cast<std::uint16_t>(stage));
-    e.severity = status.isOk() ? hal::Severity::kInfo : hal::Severity::kError;
-    e.args[0] = static_cast<std::int64_t>(status.code());
-    e.args[1] = status.detail();
-    e.args[2] = quality;
-    e.args[3] = static_cast<std::int64_t>(r.duration_ns / 1000U);
-    events_->record(e);
-    return status;
+    return detail::recordStage(stages_, *events_, *clock_, stage, status, quality, t0_ns);
 }
 
 Status DescentMapper::capture(Stage stage, const ImageView<std::uint16_t>& image, hal::FrameInfo& info) noexcept {
@@ -214,19 +191,6 @@ Status DescentMapper::planGeometry() noexcept {
 }
 
 namespace {
-
-// The top 8 bits of a frame of bit_depth significant bits (the feature modules are 8-bit).
-void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth, const ImageView<std::uint8_t>& out) noexcept {
-    const std::uint32_t shift = bit_depth > 8U ? static_cast<std::uint32_t>(bit_depth) - 8U : 0U;
-    for (std::int32_t y = 0; y < in.height(); ++y) {
-        const std::uint16_t* src = in.row(y);
-        std::uint8_t* dst = out.row(y);
-        for (std::int32_t x = 0; x < in.width(); ++x) {
-            const std::uint32_t v = static_cast<std::uint32_t>(src[x]) >> shift;
-            dst[x] = static_cast<std::uint8_t>(v > 255U ? 255U : v);
-        }
-    }
-}
 
 // Longest ray length (metres) to a plane at depth z seen anywhere in the image: the
 // corner rays of a pinhole are the longest.

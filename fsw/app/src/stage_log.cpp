@@ -14,6 +14,9 @@ const char* stageName(Stage stage) noexcept {
         case Stage::kRefine: return "refine";
         case Stage::kSweep: return "sweep";
         case Stage::kGrid: return "grid";
+        case Stage::kRectify: return "rectify";
+        case Stage::kStereo: return "stereo";
+        case Stage::kTriangulate: return "triangulate";
         case Stage::kNone: break;
     }
     return "none";

@@ -114,7 +114,7 @@ Status triangulate(const RectifiedGeometry& geometry, const TriangulationLimits&
                 continue;
             }
             const double sigma = (srow != nullptr) ? static_cast<double>(srow[x]) : limits.default_sigma_px;
-            TerrainPoint p;
+            TerrainPoint p{};
             if (!triangulatePixel(geometry, limits, x, y, static_cast<double>(d16) / scale, sigma, p).isOk()) {
                 ++stats.refused;
             } else if (static_cast<std::size_t>(stats.points) < out.size()) {

@@ -25,7 +25,12 @@ enum class Stage : std::uint8_t {
     kGeometry = 5,  // quality: camera 1's height above the site datum, centimetres
     kRefine = 6,    // quality: inliers of the refined relative pose (failed: the matches found)
     kSweep = 7,     // quality: pixels with a depth
-    kGrid = 8,      // quality: grid cells with an elevation
+    kGrid = 8,      // quality: grid cells with an elevation (height map cells, WideBaselineMapper)
+    // WideBaselineMapper (also kCapture1 .. kRefine and kGrid; geometry's quality there is
+    // the baseline in millimetres)
+    kRectify = 9,      // quality: convergence of the refined pair, centidegrees
+    kStereo = 10,      // quality: pixels with a disparity
+    kTriangulate = 11, // quality: points triangulated
 };
 constexpr std::uint16_t kEventStageBase = 0x0A00U;
 

@@ -33,10 +33,11 @@ struct RectifiedGeometry {
     [[nodiscard]] Status validate() const noexcept;
 };
 
-// A triangulated point.
+// A triangulated point. Trivial (no member initialisers) so that point buffers can come
+// from an Arena; `TerrainPoint p{};` is all zeros.
 struct TerrainPoint {
-    float x_m = 0.0F, y_m = 0.0F, z_m = 0.0F;  // site frame (z down)
-    float sigma_range_m = 0.0F;                 // 1-sigma along the left camera's ray
+    float x_m, y_m, z_m;   // site frame (z down)
+    float sigma_range_m;   // 1-sigma along the left camera's ray
 };
 
 struct TriangulationLimits {

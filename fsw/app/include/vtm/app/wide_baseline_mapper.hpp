@@ -1,0 +1,221 @@
+// WideBaselineMapper: the rover's wide-baseline mapping executive (issue 7, paper §2 and
+// §6). The rover images the terrain ahead from one place, drives a few metres sideways
+// and images it again; the two frames are one stereo pair with a baseline of metres.
+// Initialised once from a validated configuration, it owns all its memory (planned by
+// workspaceBytes and taken from the caller's Arena at init). Each map() request:
+//   capture1     image 1 through hal::Camera (capture for 8-bit cameras; deeper ones
+//                through capture16, their top 8 bits kept)
+//   pose1        hal::Odometry at image 1's timestamp
+//   capture2     image 2 (the next frame: after the drive)
+//   pose2        the pose at image 2's timestamp
+//   geometry     camera poses from the vehicle poses and the mount; the baseline must be
+//                at least min_baseline_m
+//   refine       Förstner features of image 1 where image 2 sees it (visibility from the
+//                odometry and the ground plane under the camera), guided template matching
+//                into image 2 inside the region that the odometry and the range interval
+//                predict, MotionRefiner (LM over rotation and translation direction, one
+//                depth per feature; the baseline length stays the odometry's); camera 2's
+//                pose is replaced by the refined one
+//   rectify      Fusiello rectification of the refined pair and both remapped images
+//   stereo       the disparity window (stereo.d_max - stereo.d_min + 1 disparities) is
+//                placed on the refined features' rectified disparities (the window that
+//                holds most of them, centred on them); image 2 is shifted by the window's
+//                start so that MlStereo searches 0..count-1; the shift is added back;
+//                disparities whose ray the ground bound puts beyond the window are dropped
+//                (relief_below_m)
+//   triangulate  every disparity to a site point with its range sigma (fsw/terrain)
+//   grid         terrain::HeightMap on the configured site grid (highest point per cell)
+// Every stage leaves a StageRecord (Status, quality figure, time from hal::Clock) in
+// stages() and one event in hal::EventLog (stage_log.hpp). The first stage that fails
+// ends the request with its Status and nothing is published: products() is nullptr until
+// a request succeeds, and again from the start of the next one. A published product stays
+// valid until the next map().
+//
+// No heap, no exceptions; deterministic for the same frames and poses. docs/app.md.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "hal/camera.hpp"
+#include "hal/clock.hpp"
+#include "hal/event_log.hpp"
+#include "hal/odometry.hpp"
+#include "vtm/app/camera_mount.hpp"
+#include "vtm/app/stage_log.hpp"
+#include "vtm/core/arena.hpp"
+#include "vtm/core/image.hpp"
+#include "vtm/core/span.hpp"
+#include "vtm/features/features.hpp"
+#include "vtm/motion/motion_refiner.hpp"
+#include "vtm/rectify/rectifier.hpp"
+#include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/terrain/height_map.hpp"
+#include "vtm/terrain/triangulation.hpp"
+
+namespace vtm::app {
+
+// The dense stereo of the default flight configuration: 128 disparities (0..127; the
+// mapper places the window per pair), the conservative failure checks (left-right 1 px,
+// uniqueness 5 %: a wrong range in a map is worse than none).
+[[nodiscard]] stereo::Config wideBaselineStereoConfig() noexcept;
+
+struct WideBaselineMapperConfig {
+    // Capacities: the camera's frame size. rectify.max_width/max_height, detector.* and
+    // matcher.* must equal it; the rectified size (rectify.out_* or the frame size) must
+    // equal stereo.max_width/max_height.
+    std::int32_t frame_width = 1024;
+    std::int32_t frame_height = 1024;
+    CameraMount mount{};  // the mast camera on the rover
+    features::DetectorConfig detector{};
+    features::MatcherConfig matcher{};
+    motion::MotionConfig motion{};          // its range limits are replaced by range_*_m
+    rectify::RectifyConfig rectify{};       // its range limits are replaced by range_*_m
+    stereo::Config stereo = wideBaselineStereoConfig();  // d_min must be 0 (the window is placed per pair)
+    terrain::TriangulationLimits limits{};  // its range limits are replaced by range_*_m
+    // The terrain's range along camera 1's rays: the matching's search segment, the
+    // refiner's clamp, the rectifier's disparity bounds, the triangulation's limits.
+    double range_min_m = 3.0;
+    double range_max_m = 200.0;
+    // Matching window around the odometry's prediction, image-2 pixels (heading error of
+    // ~2.3 deg at fx ~1236 px, with half again as margin). 0..1000.
+    double match_margin_px = 75.0;
+    double min_baseline_m = 0.2;  // shorter drives are refused (kDegenerate), 0.01..100
+    // How far the terrain may lie below the ground the rover stands on (craters, down
+    // slopes), metres, 0..1000: along a ray that points down the terrain is hit no farther
+    // than this plane, which bounds the ray's disparity; a disparity found in the window
+    // when that bound lies beyond it is a wrong match and is dropped (stereo stage).
+    double relief_below_m = 3.0;
+    // The site grid of the height map (origin, cell, size; terrain::GridConfig). Every
+    // request maps into the same grid, so successive maps merge (terrain::HeightMap::merge).
+    terrain::GridConfig grid = defaultGrid();
+
+    [[nodiscard]] static terrain::GridConfig defaultGrid() noexcept {
+        terrain::GridConfig g;
+        g.cell_m = 0.25;
+        g.cols = 512;
+        g.rows = 512;
+        g.origin_north_m = -64.0;  // 128 m x 128 m centred on the site origin
+        g.origin_east_m = -64.0;
+        return g;
+    }
+    // kOk, or kInvalidConfig naming the field (sub-configurations as their validate()
+    // names them).
+    [[nodiscard]] Status validate() const noexcept;
+};
+
+// What a successful request publishes. Views point into the mapper's memory.
+struct WideBaselineProducts {
+    ImageView<const std::uint8_t> image1;       // the captured frames (8-bit)
+    ImageView<const std::uint8_t> image2;
+    ImageView<const std::uint8_t> rectified1;   // the rectified pair (8-bit)
+    ImageView<const std::uint8_t> rectified2;
+    ImageView<const std::int16_t> disparity_px16;  // rectified 1's size, 1/16 px, d = x1 - x2; kNoDisparity
+    ImageView<const float> sigma_px;               // 1-sigma of each disparity, px
+    Span<const terrain::TerrainPoint> points;      // site frame, row-major over rectified 1
+    const terrain::HeightMap* height_map = nullptr;
+    CameraModel camera{};                   // the camera's model (both frames)
+    Mat3 R_site_from_cam1 = Mat3::Identity();
+    Vec3 position1_site_m = Vec3::Zero();
+    Mat3 R_site_from_cam2 = Mat3::Identity();  // refined
+    Vec3 position2_site_m = Vec3::Zero();
+    Mat3 odometry_R_2_from_1 = Mat3::Identity();  // the odometry's relative pose (X2 = R X1 + t)
+    Vec3 odometry_t_2_from_1_m = Vec3::Zero();
+    rectify::RectifiedPair rectified{};
+    terrain::RectifiedGeometry triangulation_geometry{};
+    hal::FrameInfo frame1{};
+    hal::FrameInfo frame2{};
+    features::MatchStats matching{};
+    motion::MotionResult motion{};
+    double refine_rotation_deg = 0.0;   // angle between the odometry's and the refined rotation
+    double refine_direction_deg = 0.0;  // angle between the translation directions
+    std::int32_t disparity_min = 0;     // the disparity window searched, px (inclusive)
+    std::int32_t disparity_max = 0;
+    std::int32_t features_in_window = 0;  // refined inliers whose disparity fell inside it
+    stereo::StereoStats stereo{};          // of the window's search
+    std::int32_t outside_window = 0;       // disparities dropped by the ground bound (relief_below_m)
+    terrain::TriangulationStats triangulation{};
+    terrain::HeightMapStats map{};
+};
+
+class WideBaselineMapper {
+public:
+    // Arena bytes for this configuration, 0 if it is invalid.
+    [[nodiscard]] static std::size_t workspaceBytes(const WideBaselineMapperConfig& config) noexcept;
+
+    // Validates the config, asks the camera for its description and carves the memory.
+    // The drivers are borrowed and must outlive the mapper. kInvalidConfig (config field),
+    // kSizeMismatch ("camera: frame size differs from frame_width/frame_height"),
+    // kInvalidArgument (validateCameraModel's reason for the camera's model), kOutOfMemory
+    // (arena), or the camera's describe() Status.
+    [[nodiscard]] Status init(const WideBaselineMapperConfig& config, Arena& arena, hal::Camera& camera,
+                              hal::Odometry& odometry, const hal::Clock& clock, hal::EventLog& events) noexcept;
+
+    // One request (see the file comment). kNotInitialized before a successful init();
+    // otherwise the failing stage's Status, e.g. kNoData from capture2 for a dropped frame,
+    // kCorruptData from pose1 for a NaN pose, kDegenerate from geometry for a short drive
+    // or from refine with too few inliers, kNoData from stereo / triangulate / grid when
+    // nothing was left.
+    [[nodiscard]] Status map() noexcept;
+
+    [[nodiscard]] const WideBaselineProducts* products() const noexcept {
+        return published_ ? &products_ : nullptr;
+    }
+    [[nodiscard]] const StageLog& stages() const noexcept { return stages_; }
+    [[nodiscard]] std::size_t memoryBytes() const noexcept { return memory_bytes_; }
+
+private:
+    [[nodiscard]] Status capture(Stage stage, const ImageView<std::uint8_t>& image, hal::FrameInfo& info) noexcept;
+    [[nodiscard]] Status poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept;
+    [[nodiscard]] Status planGeometry() noexcept;
+    [[nodiscard]] Status refinePose() noexcept;
+    [[nodiscard]] Status matchFeatures(const features::MatchPrediction& prediction) noexcept;
+    [[nodiscard]] Status runRectify() noexcept;
+    [[nodiscard]] Status placeDisparityWindow() noexcept;
+    [[nodiscard]] Status runStereo() noexcept;
+    [[nodiscard]] std::int32_t boundByGround() noexcept;
+    [[nodiscard]] Status runTriangulate() noexcept;
+    [[nodiscard]] Status runGrid() noexcept;
+    Status finish(Stage stage, const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept;
+
+    WideBaselineMapperConfig config_{};
+    hal::Camera* camera_ = nullptr;
+    hal::Odometry* odometry_ = nullptr;
+    const hal::Clock* clock_ = nullptr;
+    hal::EventLog* events_ = nullptr;
+    CameraModel model_{};
+    features::ForstnerDetector detector_{};
+    features::TemplateMatcher matcher_{};
+    motion::MotionRefiner refiner_{};
+    rectify::Rectifier rectifier_{};
+    stereo::MlStereo stereo_{};
+    terrain::HeightMap map_{};
+    features::FeatureSet features_{};
+    features::MatchSet matches_{};
+    Vec2 pixels_a_[features::kMaxFeatures];
+    Vec2 pixels_b_[features::kMaxFeatures];
+    double disparities_[features::kMaxFeatures] = {};  // rectified disparities of the inliers (sorted)
+    std::uint8_t inliers_[features::kMaxFeatures] = {};
+    ImageView<std::uint16_t> frame16_{};  // staging frame of a camera of more than 8 bits
+    ImageView<std::uint8_t> grey1_{};
+    ImageView<std::uint8_t> grey2_{};
+    ImageView<std::uint8_t> visible_{};
+    ImageView<std::uint8_t> rect1_{};
+    ImageView<std::uint8_t> rect2_{};
+    ImageView<std::uint8_t> shifted2_{};  // rect2_ moved by the window's start
+    ImageView<std::int16_t> disparity_{};
+    ImageView<float> sigma_{};
+    Span<terrain::TerrainPoint> points_{};
+    Mat3 R_b_from_a_odometry_ = Mat3::Identity();
+    Vec3 t_b_from_a_odometry_ = Vec3::Zero();
+    hal::PoseEstimate pose1_{};
+    hal::PoseEstimate pose2_{};
+    WideBaselineProducts products_{};
+    StageLog stages_{};
+    std::size_t memory_bytes_ = 0U;
+    std::uint8_t bit_depth_ = 8U;
+    bool initialized_ = false;
+    bool published_ = false;
+};
+
+}  // namespace vtm::app

@@ -1,0 +1,48 @@
+#include "request_support.hpp"
+
+#include <cmath>
+
+#include "vtm/core/math.hpp"
+
+namespace vtm::app::detail {
+
+void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth,
+             const ImageView<std::uint8_t>& out) noexcept {
+    const std::uint32_t shift = bit_depth > 8U ? static_cast<std::uint32_t>(bit_depth) - 8U : 0U;
+    for (std::int32_t y = 0; y < in.height(); ++y) {
+        const std::uint16_t* src = in.row(y);
+        std::uint8_t* dst = out.row(y);
+        for (std::int32_t x = 0; x < in.width(); ++x) {
+            const std::uint32_t v = static_cast<std::uint32_t>(src[x]) >> shift;
+            dst[x] = static_cast<std::uint8_t>(v > 255U ? 255U : v);
+        }
+    }
+}
+
+std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept {
+    const double trace = pose.covariance[0] + pose.covariance[7] + pose.covariance[14];
+    return static_cast<std::int64_t>(std::floor(1000.0 * math::sqrt(trace > 0.0 ? trace : 0.0) + 0.5));
+}
+
+Status recordStage(StageLog& log, hal::EventLog& events, const hal::Clock& clock, Stage stage,
+                   const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept {
+    const std::uint64_t now = clock.monotonicNs();
+    StageRecord r;
+    r.stage = stage;
+    r.status = status;
+    r.quality = quality;
+    r.duration_ns = now >= t0_ns ? now - t0_ns : 0U;
+    log.add(r);
+    hal::Event e;
+    e.timestamp_ns = now;
+    e.id = static_cast<std::uint16_t>(kEventStageBase + static_cast<std::uint16_t>(stage));
+    e.severity = status.isOk() ? hal::Severity::kInfo : hal::Severity::kError;
+    e.args[0] = static_cast<std::int64_t>(status.code());
+    e.args[1] = status.detail();
+    e.args[2] = quality;
+    e.args[3] = static_cast<std::int64_t>(r.duration_ns / 1000U);
+    events.record(e);
+    return status;
+}
+
+}  // namespace vtm::app::detail

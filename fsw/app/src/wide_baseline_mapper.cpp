@@ -1,0 +1,517 @@
+#include "vtm/app/wide_baseline_mapper.hpp"
+
+#include <cmath>
+
+#include "request_support.hpp"
+#include "vtm/core/math.hpp"
+#include "vtm/features/visibility.hpp"
+#include "vtm/rectify/linear_camera.hpp"
+
+namespace vtm::app {
+namespace {
+
+using detail::carve;
+using detail::positionSigmaMm;
+using detail::toGrey8;
+
+Status invalid(const char* reason, std::int64_t value = 0) noexcept {
+    return Status(StatusCode::kInvalidConfig, reason, value);
+}
+
+struct Sizes {
+    std::size_t frame;      // pixels of one frame
+    std::size_t rectified;  // pixels of one rectified image
+};
+
+std::int32_t rectifiedWidth(const WideBaselineMapperConfig& c) noexcept {
+    return c.rectify.out_width > 0 ? c.rectify.out_width : c.frame_width;
+}
+std::int32_t rectifiedHeight(const WideBaselineMapperConfig& c) noexcept {
+    return c.rectify.out_height > 0 ? c.rectify.out_height : c.frame_height;
+}
+
+Sizes sizesOf(const WideBaselineMapperConfig& c) noexcept {
+    Sizes s{};
+    s.frame = static_cast<std::size_t>(c.frame_width) * static_cast<std::size_t>(c.frame_height);
+    s.rectified = static_cast<std::size_t>(rectifiedWidth(c)) * static_cast<std::size_t>(rectifiedHeight(c));
+    return s;
+}
+
+// The sub-configurations with the mapper's range interval in them.
+rectify::RectifyConfig rectifyConfigOf(const WideBaselineMapperConfig& c) noexcept {
+    rectify::RectifyConfig r = c.rectify;
+    r.range_min_m = c.range_min_m;
+    r.range_max_m = c.range_max_m;
+    return r;
+}
+terrain::TriangulationLimits limitsOf(const WideBaselineMapperConfig& c) noexcept {
+    terrain::TriangulationLimits l = c.limits;
+    l.min_range_m = c.range_min_m;
+    l.max_range_m = c.range_max_m;
+    return l;
+}
+
+}  // namespace
+
+stereo::Config wideBaselineStereoConfig() noexcept {
+    stereo::Config s = stereo::Config::conservative();
+    s.d_min = 0;
+    s.d_max = 127;
+    return s;
+}
+
+Status WideBaselineMapperConfig::validate() const noexcept {
+    if (frame_width < 16 || frame_width > rectify::kMaxImageSide || frame_height < 16 ||
+        frame_height > rectify::kMaxImageSide) {
+        return invalid("frame_width/frame_height: must be 16..4094", frame_width);
+    }
+    VTM_RETURN_IF_ERROR(validateMount(mount));
+    VTM_RETURN_IF_ERROR(detector.validate());
+    VTM_RETURN_IF_ERROR(matcher.validate());
+    VTM_RETURN_IF_ERROR(motion.validate());
+    if (!math::isFinite(range_min_m) || !math::isFinite(range_max_m) || !(range_min_m > 0.0) ||
+        !(range_max_m > range_min_m)) {
+        return invalid("range_min_m/range_max_m: need 0 < range_min_m < range_max_m, finite");
+    }
+    VTM_RETURN_IF_ERROR(rectifyConfigOf(*this).validate());
+    VTM_RETURN_IF_ERROR(stereo.validate());
+    VTM_RETURN_IF_ERROR(limitsOf(*this).validate());
+    VTM_RETURN_IF_ERROR(grid.validate());
+    if (detector.max_width != frame_width || detector.max_height != frame_height) {
+        return invalid("detector.max_width/max_height: must equal frame_width/frame_height", detector.max_width);
+    }
+    if (matcher.max_width != frame_width || matcher.max_height != frame_height) {
+        return invalid("matcher.max_width/max_height: must equal frame_width/frame_height", matcher.max_width);
+    }
+    if (rectify.max_width != frame_width || rectify.max_height != frame_height) {
+        return invalid("rectify.max_width/max_height: must equal frame_width/frame_height", rectify.max_width);
+    }
+    if (stereo.max_width != rectifiedWidth(*this) || stereo.max_height != rectifiedHeight(*this)) {
+        return invalid("stereo.max_width/max_height: must equal the rectified size (rectify.out_* or the frame size)",
+                       stereo.max_width);
+    }
+    if (stereo.d_min != 0) {
+        return invalid("stereo.d_min: must be 0 (the mapper places the disparity window per pair)", stereo.d_min);
+    }
+    if (!math::isFinite(match_margin_px) || match_margin_px < 0.0 || match_margin_px > 1000.0) {
+        return invalid("match_margin_px: must be 0..1000");
+    }
+    if (!math::isFinite(relief_below_m) || relief_below_m < 0.0 || relief_below_m > 1000.0) {
+        return invalid("relief_below_m: must be 0..1000");
+    }
+    if (!math::isFinite(min_baseline_m) || min_baseline_m < 0.01 || min_baseline_m > 100.0) {
+        return invalid("min_baseline_m: must be 0.01..100");
+    }
+    return Status::ok();
+}
+
+std::size_t WideBaselineMapper::workspaceBytes(const WideBaselineMapperConfig& config) noexcept {
+    if (!config.validate().isOk()) {
+        return 0U;
+    }
+    const Sizes s = sizesOf(config);
+    return features::ForstnerDetector::workspaceBytes(config.detector)  // each module's own plan
+           + features::TemplateMatcher::workspaceBytes(config.matcher) +
+           rectify::Rectifier::workspaceBytes(rectifyConfigOf(config)) +
+           stereo::MlStereo::workspaceBytes(config.stereo) + terrain::HeightMap::workspaceBytes(config.grid) +
+           Arena::arrayBytes<std::uint16_t>(s.frame)              // staging frame of a > 8-bit camera
+           + 3U * Arena::arrayBytes<std::uint8_t>(s.frame)        // the two frames (8-bit), visibility mask
+           + 3U * Arena::arrayBytes<std::uint8_t>(s.rectified)    // rectified pair, shifted image 2
+           + Arena::arrayBytes<std::int16_t>(s.rectified)         // disparity
+           + Arena::arrayBytes<float>(s.rectified)                // its sigma
+           + Arena::arrayBytes<terrain::TerrainPoint>(s.rectified);  // one point per rectified pixel
+}
+
+Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& arena, hal::Camera& camera,
+                                hal::Odometry& odometry, const hal::Clock& clock, hal::EventLog& events) noexcept {
+    initialized_ = false;
+    published_ = false;
+    VTM_RETURN_IF_ERROR(config.validate());
+    hal::CameraDescription description;
+    VTM_RETURN_IF_ERROR(camera.describe(description));
+    if (description.width_px != config.frame_width || description.height_px != config.frame_height) {
+        return Status(StatusCode::kSizeMismatch, "camera: frame size differs from frame_width/frame_height",
+                      description.width_px);
+    }
+    const Status model_ok = validateCameraModel(description.model);
+    if (!model_ok.isOk()) {
+        return Status(StatusCode::kInvalidArgument, model_ok.reason(), model_ok.detail());
+    }
+    const std::size_t before = arena.usedBytes();
+    VTM_RETURN_IF_ERROR(detector_.init(config.detector, arena));
+    VTM_RETURN_IF_ERROR(matcher_.init(config.matcher, arena));
+    VTM_RETURN_IF_ERROR(rectifier_.init(rectifyConfigOf(config), arena));
+    VTM_RETURN_IF_ERROR(stereo_.init(config.stereo, arena));
+    VTM_RETURN_IF_ERROR(map_.init(config.grid, arena));
+    const std::int32_t w = config.frame_width;
+    const std::int32_t h = config.frame_height;
+    const std::int32_t rw = rectifiedWidth(config);
+    const std::int32_t rh = rectifiedHeight(config);
+    frame16_ = carve<std::uint16_t>(arena, w, h);
+    grey1_ = carve<std::uint8_t>(arena, w, h);
+    grey2_ = carve<std::uint8_t>(arena, w, h);
+    visible_ = carve<std::uint8_t>(arena, w, h);
+    rect1_ = carve<std::uint8_t>(arena, rw, rh);
+    rect2_ = carve<std::uint8_t>(arena, rw, rh);
+    shifted2_ = carve<std::uint8_t>(arena, rw, rh);
+    disparity_ = carve<std::int16_t>(arena, rw, rh);
+    sigma_ = carve<float>(arena, rw, rh);
+    points_ = arena.allocateArray<terrain::TerrainPoint>(sizesOf(config).rectified);
+    if (frame16_.data() == nullptr || grey1_.data() == nullptr ||
+        grey2_.data() == nullptr || visible_.data() == nullptr || rect1_.data() == nullptr ||
+        rect2_.data() == nullptr || shifted2_.data() == nullptr || disparity_.data() == nullptr ||
+        sigma_.data() == nullptr || points_.empty()) {
+        return Status(StatusCode::kOutOfMemory, "WideBaselineMapper::init: arena smaller than workspaceBytes(config)",
+                      static_cast<std::int64_t>(workspaceBytes(config)));
+    }
+    memory_bytes_ = arena.usedBytes() - before;
+    config_ = config;
+    model_ = description.model;
+    bit_depth_ = description.bit_depth;
+    camera_ = &camera;
+    odometry_ = &odometry;
+    clock_ = &clock;
+    events_ = &events;
+    initialized_ = true;
+    return Status::ok();
+}
+
+Status WideBaselineMapper::finish(Stage stage, const Status& status, std::int64_t quality,
+                                  std::uint64_t t0_ns) noexcept {
+    return detail::recordStage(stages_, *events_, *clock_, stage, status, quality, t0_ns);
+}
+
+Status WideBaselineMapper::capture(Stage stage, const ImageView<std::uint8_t>& image, hal::FrameInfo& info) noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    // 8-bit cameras straight into the 8-bit frame; deeper ones through the 16-bit staging
+    // frame, keeping their top 8 bits.
+    Status st = bit_depth_ > 8U ? camera_->capture16(frame16_, info) : camera_->capture(image, info);
+    if (st.isOk() && (info.width_px != image.width() || info.height_px != image.height())) {
+        st = Status(StatusCode::kSizeMismatch, "capture: the frame's size differs from the camera's description",
+                    info.width_px);
+    }
+    if (st.isOk() && bit_depth_ > 8U) {
+        toGrey8(frame16_, info.bit_depth, image);
+    }
+    return finish(stage, st, st.isOk() ? static_cast<std::int64_t>(info.sequence) : 0, t0);
+}
+
+Status WideBaselineMapper::poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    const Status st = odometry_->poseAt(info.timestamp_ns, pose);
+    return finish(stage, st, st.isOk() ? positionSigmaMm(pose) : 0, t0);
+}
+
+Status WideBaselineMapper::planGeometry() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    WideBaselineProducts& p = products_;
+    Status st = cameraPoseInSite(pose1_, config_.mount, p.R_site_from_cam1, p.position1_site_m);
+    if (st.isOk()) {
+        st = cameraPoseInSite(pose2_, config_.mount, p.R_site_from_cam2, p.position2_site_m);
+    }
+    double baseline = 0.0;
+    if (st.isOk()) {
+        // Camera frames: X2 = R X1 + t.
+        R_b_from_a_odometry_ = p.R_site_from_cam2.transpose() * p.R_site_from_cam1;
+        t_b_from_a_odometry_ = p.R_site_from_cam2.transpose() * (p.position1_site_m - p.position2_site_m);
+        p.odometry_R_2_from_1 = R_b_from_a_odometry_;
+        p.odometry_t_2_from_1_m = t_b_from_a_odometry_;
+        baseline = math::sqrt(t_b_from_a_odometry_.squaredNorm());
+        if (!(baseline >= config_.min_baseline_m)) {
+            st = Status(StatusCode::kDegenerate, "geometry: the rover moved less than min_baseline_m between the frames",
+                        static_cast<std::int64_t>(std::floor(1000.0 * baseline + 0.5)));
+        }
+    }
+    return finish(Stage::kGeometry, st, st.isOk() ? static_cast<std::int64_t>(std::floor(1000.0 * baseline + 0.5)) : 0,
+                  t0);
+}
+
+Status WideBaselineMapper::matchFeatures(const features::MatchPrediction& prediction) noexcept {
+    features::VisibilityPrior prior;
+    prior.up_a = products_.R_site_from_cam1.transpose() * Vec3(0.0, 0.0, -1.0);
+    // The mast camera's height above the ground the rover stands on (site z is down; the
+    // vehicle frame's origin is on the ground).
+    const double height = pose1_.position_m[2] - products_.position1_site_m.z();
+    prior.camera_height_m = height > 0.05 ? height : 0.05;
+    prior.margin_px = 16.0;
+    std::int64_t visible = 0;
+    VTM_RETURN_IF_ERROR(features::predictVisibility(prediction, prior, visible_, visible));
+    if (visible == 0) {
+        return Status(StatusCode::kDegenerate, "refine: the odometry says image 2 sees none of image 1");
+    }
+    VTM_RETURN_IF_ERROR(detector_.detect(grey1_, features_, nullptr, visible_));
+    return matcher_.match(grey1_, grey2_, features_, prediction, matches_, &products_.matching);
+}
+
+Status WideBaselineMapper::refinePose() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    WideBaselineProducts& p = products_;
+    features::MatchPrediction prediction;
+    prediction.model_a = &model_;
+    prediction.model_b = &model_;
+    prediction.R_b_from_a = R_b_from_a_odometry_;
+    prediction.t_b_from_a_m = t_b_from_a_odometry_;
+    prediction.range_min_m = config_.range_min_m;
+    prediction.range_max_m = config_.range_max_m;
+    prediction.margin_px = config_.match_margin_px;
+    prediction.surface_normal_a = p.R_site_from_cam1.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
+    Status st = matchFeatures(prediction);
+    const auto n = static_cast<std::size_t>(matches_.count);
+    if (st.isOk()) {
+        for (std::int32_t i = 0; i < matches_.count; ++i) {
+            pixels_a_[i] = matches_.items[i].pixel_a;
+            pixels_b_[i] = matches_.items[i].pixel_b;
+        }
+        motion::MotionInput input;
+        input.model_a = &model_;
+        input.model_b = &model_;
+        input.R_b_from_a = R_b_from_a_odometry_;
+        input.t_b_from_a_m = t_b_from_a_odometry_;
+        input.pixels_a = Span<const Vec2>(pixels_a_, n);
+        input.pixels_b = Span<const Vec2>(pixels_b_, n);
+        motion::MotionConfig mc = config_.motion;
+        mc.range_min_m = config_.range_min_m;
+        mc.range_max_m = config_.range_max_m;
+        st = refiner_.refine(input, mc, p.motion, Span<std::uint8_t>(inliers_, n));
+    }
+    if (st.isOk()) {
+        const motion::MotionResult& m = p.motion;
+        constexpr double kDegPerRad = 180.0 / math::kPi;
+        p.refine_rotation_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, R_b_from_a_odometry_);
+        p.refine_direction_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, t_b_from_a_odometry_);
+        // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
+        p.R_site_from_cam2 = p.R_site_from_cam1 * m.R_b_from_a.transpose();
+        p.position2_site_m = p.position1_site_m - p.R_site_from_cam2 * m.t_b_from_a_m;
+    }
+    return finish(Stage::kRefine, st, st.isOk() ? p.motion.inliers : p.matching.matched, t0);
+}
+
+Status WideBaselineMapper::runRectify() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    WideBaselineProducts& p = products_;
+    rectify::RectifyInput in;
+    in.model_a = &model_;
+    in.model_b = &model_;
+    in.R_b_from_a = p.motion.R_b_from_a;
+    in.t_b_from_a_m = p.motion.t_b_from_a_m;
+    Status st = rectifier_.compute(in, p.rectified);
+    if (st.isOk()) {
+        st = rectifier_.remap(rectify::Rectifier::Side::kA, grey1_, rect1_);
+    }
+    if (st.isOk()) {
+        st = rectifier_.remap(rectify::Rectifier::Side::kB, grey2_, rect2_);
+    }
+    rectify::LinearCamera lin;
+    if (st.isOk()) {
+        st = rectify::linearizeCamera(model_, lin);
+    }
+    if (st.isOk()) {
+        // The rectified left camera in the site frame, for the triangulation.
+        terrain::RectifiedGeometry& g = p.triangulation_geometry;
+        g.fx_px = p.rectified.model_a.fx_px;
+        g.fy_px = p.rectified.model_a.fy_px;
+        g.cx_left_px = p.rectified.model_a.cx_px;
+        g.cx_right_px = p.rectified.model_b.cx_px;
+        g.cy_px = p.rectified.model_a.cy_px;
+        g.baseline_m = p.rectified.centre_b_rect_m.x();
+        g.R_site_from_rect = p.R_site_from_cam1 * p.rectified.R_rect_from_a.transpose();
+        g.left_centre_site_m = p.position1_site_m + p.R_site_from_cam1 * lin.centre_ref_m;
+        st = g.validate();
+    }
+    return finish(Stage::kRectify, st,
+                  st.isOk() ? static_cast<std::int64_t>(std::floor(100.0 * p.rectified.convergence_deg + 0.5)) : 0, t0);
+}
+
+// The disparity window: the refined inliers' rectified disparities, sorted; the window of
+// `count` disparities that holds the most of them (the nearest such window when several
+// do), centred on the ones it holds, inside the rectifier's bounds for the range interval.
+Status WideBaselineMapper::placeDisparityWindow() noexcept {
+    WideBaselineProducts& p = products_;
+    std::int32_t n = 0;
+    for (std::int32_t i = 0; i < matches_.count; ++i) {
+        Vec2 ra;
+        Vec2 rb;
+        if (inliers_[i] == 0U || !rectifier_.rectifyPixel(rectify::Rectifier::Side::kA, pixels_a_[i], ra).isOk() ||
+            !rectifier_.rectifyPixel(rectify::Rectifier::Side::kB, pixels_b_[i], rb).isOk()) {
+            continue;
+        }
+        // Insertion into the sorted prefix (n <= kMaxFeatures).
+        const double d = ra.x() - rb.x();
+        std::int32_t k = n;
+        for (; k > 0 && disparities_[k - 1] > d; --k) {
+            disparities_[k] = disparities_[k - 1];
+        }
+        disparities_[k] = d;
+        ++n;
+    }
+    if (n == 0) {
+        return Status(StatusCode::kDegenerate, "stereo: no refined inlier maps into the rectified pair");
+    }
+    const std::int32_t count = config_.stereo.d_max - config_.stereo.d_min + 1;
+    // Two pixels of margin on each side for the subpixel fit and kOutOfRange.
+    const double span = static_cast<double>(count - 1) - 4.0;
+    std::int32_t best_lo = 0;
+    std::int32_t best_hi = 0;  // exclusive
+    std::int32_t hi = 0;
+    for (std::int32_t lo = 0; lo < n; ++lo) {
+        hi = hi > lo ? hi : lo;
+        for (; hi < n && disparities_[hi] - disparities_[lo] <= span; ++hi) {
+        }
+        if (hi - lo > best_hi - best_lo) {
+            best_lo = lo;
+            best_hi = hi;
+        }
+    }
+    const double centre = 0.5 * (disparities_[best_lo] + disparities_[best_hi - 1]);
+    std::int32_t start = static_cast<std::int32_t>(std::floor(centre - 0.5 * static_cast<double>(count - 1) + 0.5));
+    // Inside the bounds the range interval implies, when they are wider than the window.
+    if (p.rectified.d_max - p.rectified.d_min + 1 >= count) {
+        start = start < p.rectified.d_min ? p.rectified.d_min : start;
+        start = start + count - 1 > p.rectified.d_max ? p.rectified.d_max - count + 1 : start;
+    }
+    p.disparity_min = start;
+    p.disparity_max = start + count - 1;
+    p.features_in_window = 0;
+    for (std::int32_t i = 0; i < n; ++i) {
+        p.features_in_window += (disparities_[i] >= p.disparity_min && disparities_[i] <= p.disparity_max) ? 1 : 0;
+    }
+    return Status::ok();
+}
+
+Status WideBaselineMapper::runStereo() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    WideBaselineProducts& p = products_;
+    Status st = placeDisparityWindow();
+    if (st.isOk()) {
+        // shifted2(u) = rect2(u - s): a disparity d of the pair is d - s of (rect1, shifted2).
+        const std::int32_t s = p.disparity_min;
+        const std::int32_t w = rect2_.width();
+        for (std::int32_t y = 0; y < rect2_.height(); ++y) {
+            const std::uint8_t* src = rect2_.row(y);
+            std::uint8_t* dst = shifted2_.row(y);
+            for (std::int32_t u = 0; u < w; ++u) {
+                const std::int32_t x = u - s;
+                dst[u] = (x >= 0 && x < w) ? src[x] : 0U;
+            }
+        }
+        const stereo::DisparityOutput out{disparity_, sigma_, {}};
+        st = stereo_.compute(rect1_, shifted2_, out, &p.stereo);
+    }
+    if (st.isOk()) {
+        const auto offset = static_cast<std::int32_t>(p.disparity_min * stereo::kDisparityScale);
+        for (std::int32_t y = 0; y < disparity_.height(); ++y) {
+            std::int16_t* row = disparity_.row(y);
+            for (std::int32_t x = 0; x < disparity_.width(); ++x) {
+                if (row[x] != stereo::kNoDisparity) {
+                    row[x] = static_cast<std::int16_t>(static_cast<std::int32_t>(row[x]) + offset);
+                }
+            }
+        }
+        p.outside_window = boundByGround();
+        if (p.stereo.valid_pixels == p.outside_window) {
+            st = Status(StatusCode::kNoData, "stereo: no pixel of the rectified pair got a disparity");
+        }
+    }
+    return finish(Stage::kStereo, st, st.isOk() ? p.stereo.valid_pixels - p.outside_window : 0, t0);
+}
+
+// Pixels whose true disparity cannot be inside the searched window: along each rectified
+// ray the terrain is hit no farther than a plane relief_below_m under the ground the rover
+// stands on (when the ray points down), so the true depth is at most that plane's depth Z_p
+// and the true disparity lies beyond d_p = fx b / Z_p + (cx1 - cx2) (above it for b > 0,
+// below for b < 0). When d_p already lies beyond the window by more than a pixel, the
+// pixel's disparity is a wrong match: it is dropped. Returns the pixels dropped.
+std::int32_t WideBaselineMapper::boundByGround() noexcept {
+    const WideBaselineProducts& p = products_;
+    const terrain::RectifiedGeometry& g = p.triangulation_geometry;
+    const double plane_z = pose1_.position_m[2] + config_.relief_below_m;  // site z is down
+    const double height = plane_z - g.left_centre_site_m.z();             // centre above the plane
+    const double c0 = g.cx_left_px - g.cx_right_px;
+    const Vec3 down_rect = g.R_site_from_rect.transpose() * Vec3(0.0, 0.0, 1.0);  // site down in the rectified frame
+    std::int32_t dropped = 0;
+    for (std::int32_t y = 0; y < disparity_.height(); ++y) {
+        std::int16_t* row = disparity_.row(y);
+        const double ry = (static_cast<double>(y) - g.cy_px) / g.fy_px;
+        for (std::int32_t x = 0; x < disparity_.width(); ++x) {
+            if (row[x] == stereo::kNoDisparity) {
+                continue;
+            }
+            // Ray (rx, ry, 1) in the rectified frame; its downward component per unit depth.
+            const double rx = (static_cast<double>(x) - g.cx_left_px) / g.fx_px;
+            const double down = rx * down_rect.x() + ry * down_rect.y() + down_rect.z();
+            if (!(down > 1e-9) || !(height > 0.0)) {
+                continue;  // the ray never reaches the plane: no bound
+            }
+            const double d_plane = g.fx_px * g.baseline_m * down / height + c0;  // Z_p = height / down
+            const bool outside = g.baseline_m > 0.0 ? d_plane > static_cast<double>(p.disparity_max) + 1.0
+                                                    : d_plane < static_cast<double>(p.disparity_min) - 1.0;
+            if (outside) {
+                row[x] = stereo::kNoDisparity;
+                ++dropped;
+            }
+        }
+    }
+    return dropped;
+}
+
+Status WideBaselineMapper::runTriangulate() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    WideBaselineProducts& p = products_;
+    p.triangulation = terrain::TriangulationStats{};
+    Status st = terrain::triangulate(p.triangulation_geometry, limitsOf(config_), disparity_, sigma_, points_,
+                                     p.triangulation);
+    if (st.isOk() && p.triangulation.points == 0) {
+        st = Status(StatusCode::kNoData, "triangulate: no disparity gave a point within the range interval");
+    }
+    return finish(Stage::kTriangulate, st, st.isOk() ? p.triangulation.points : 0, t0);
+}
+
+Status WideBaselineMapper::runGrid() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    WideBaselineProducts& p = products_;
+    map_.clear();
+    p.map = terrain::HeightMapStats{};
+    const Span<const terrain::TerrainPoint> points(points_.data(), static_cast<std::size_t>(p.triangulation.points));
+    Status st = map_.add(points, &p.map);
+    if (st.isOk() && map_.filledCells() == 0) {
+        st = Status(StatusCode::kNoData, "grid: no point fell inside the site grid (grid origin, cell_m, cols/rows?)");
+    }
+    return finish(Stage::kGrid, st, st.isOk() ? map_.filledCells() : 0, t0);
+}
+
+Status WideBaselineMapper::map() noexcept {
+    published_ = false;
+    stages_.clear();
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "WideBaselineMapper::map: init() has not succeeded");
+    }
+    products_.matching = features::MatchStats{};
+    products_.motion = motion::MotionResult{};
+    products_.refine_rotation_deg = 0.0;
+    products_.refine_direction_deg = 0.0;
+    products_.stereo = stereo::StereoStats{};
+    VTM_RETURN_IF_ERROR(capture(Stage::kCapture1, grey1_, products_.frame1));
+    VTM_RETURN_IF_ERROR(poseOf(Stage::kPose1, products_.frame1, pose1_));
+    VTM_RETURN_IF_ERROR(capture(Stage::kCapture2, grey2_, products_.frame2));
+    VTM_RETURN_IF_ERROR(poseOf(Stage::kPose2, products_.frame2, pose2_));
+    VTM_RETURN_IF_ERROR(planGeometry());
+    VTM_RETURN_IF_ERROR(refinePose());
+    VTM_RETURN_IF_ERROR(runRectify());
+    VTM_RETURN_IF_ERROR(runStereo());
+    VTM_RETURN_IF_ERROR(runTriangulate());
+    VTM_RETURN_IF_ERROR(runGrid());
+    products_.image1 = grey1_;
+    products_.image2 = grey2_;
+    products_.rectified1 = rect1_;
+    products_.rectified2 = rect2_;
+    products_.disparity_px16 = disparity_;
+    products_.sigma_px = sigma_;
+    products_.points = Span<const terrain::TerrainPoint>(points_.data(),
+                                                         static_cast<std::size_t>(products_.triangulation.points));
+    products_.height_map = &map_;
+    products_.camera = model_;
+    published_ = true;
+    return Status::ok();
+}
+
+}  // namespace vtm::app
