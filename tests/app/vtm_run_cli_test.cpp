@@ -51,7 +51,7 @@ protected:
 TEST_F(VtmRunCli, FliesTheBuiltInDescentAndItsDepthMatchesTheRenderedTruth) {
     std::string err;
     const std::string out = dir_ + "/run";
-    ASSERT_EQ(run("'" VTM_EXECUTABLE "' run --size 256 --out '" + out + "'", dir_, err), 0) << err;
+    ASSERT_EQ(run("'" VTM_EXECUTABLE "' run descent --size 256 --out '" + out + "'", dir_, err), 0) << err;
     EXPECT_NE(err.find("pair 4/4 mapped"), std::string::npos) << err;
     const std::string md = slurp(out + "/report.md");
     const std::string html = slurp(out + "/report.html");
@@ -105,15 +105,48 @@ TEST_F(VtmRunCli, FliesTheBuiltInDescentAndItsDepthMatchesTheRenderedTruth) {
     }
 }
 
+// The built-in rover pair at 512 x 512: the range of image 1's pixels that vtm run writes
+// against the true range that vtm-sim render writes for the same scenario.
+TEST_F(VtmRunCli, FliesTheBuiltInRoverPairAndItsRangeMatchesTheRenderedTruth) {
+    std::string err;
+    const std::string out = dir_ + "/run";
+    ASSERT_EQ(run("'" VTM_EXECUTABLE "' run rover --size 512 --out '" + out + "'", dir_, err), 0) << err;
+    EXPECT_NE(err.find("rover pair mapped"), std::string::npos) << err;
+    const std::string md = slurp(out + "/report.md");
+    EXPECT_NE(md.find("![disparity](rover_disparity.png)"), std::string::npos);
+    EXPECT_NE(slurp(out + "/report.html").find("<img src=\"rover_elevation.png\">"), std::string::npos);
+    std::string scn = slurp(std::string(VTM_SCENARIO_DIR) + "/rover_wide_baseline.scn");
+    for (const char* key : {"width_px 1024", "height_px 1024"}) {
+        scn.replace(scn.find(key), std::string(key).size(), std::string(key).substr(0, 9) + " 512");
+    }
+    std::ofstream(dir_ + "/r512.scn") << scn;
+    ASSERT_EQ(run("'" VTM_SIM_EXECUTABLE "' render '" + dir_ + "/r512.scn' '" + dir_ + "/sim' --frames 0", dir_, err), 0)
+        << err;
+    const auto range = vtm::ground::readPfm(out + "/rover_range.pfm");
+    const auto truth = vtm::ground::readPfm(dir_ + "/sim/mast_000_range.pfm");
+    ASSERT_TRUE(range.ok && truth.ok) << range.error << truth.error;
+    ASSERT_TRUE(range.value.sameSize(truth.value));
+    std::vector<double> rel;
+    for (std::size_t i = 0; i < range.value.pixels.size(); ++i) {
+        const float r = range.value.pixels[i];
+        const float t = truth.value.pixels[i];
+        if (std::isfinite(r) && std::isfinite(t)) rel.push_back(std::fabs(r - t) / t);
+    }
+    ASSERT_GT(rel.size(), 5000U);  // measured 10,536 pixels of 262,144 (the disparity window's band)
+    std::sort(rel.begin(), rel.end());
+    EXPECT_LT(rel[rel.size() / 2], 0.06);  // median relative range error (measured 4.49 %)
+    for (const char* f : {"rover_rectified1.png", "rover_rectified2.png", "rover_elevation.png", "rover_points.ply"}) {
+        EXPECT_GT(slurp(out + "/" + f).size(), 100U) << f;
+    }
+}
+
 TEST_F(VtmRunCli, BadInputsExitNonZeroWithOneLineNamingTheInput) {
     std::string err;
     EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" + dir_ + "/missing.scn' --out '" + dir_ + "/o'", dir_, err), 1);
     EXPECT_NE(err.find("missing.scn: cannot open"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" VTM_SCENARIO_DIR "/rover_wide_baseline.scn' --out '" + dir_ + "/o'", dir_,
-                  err),
-              1);
-    EXPECT_NE(err.find("only descent scenarios fly today"), std::string::npos) << err;
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" VTM_SCENARIO_DIR "/traverse.scn' --out '" + dir_ + "/o'", dir_, err), 1);
+    EXPECT_NE(err.find("traverse.scn: vtm run flies rover_pair and descent scenarios"), std::string::npos) << err;
     EXPECT_EQ(run("'" VTM_EXECUTABLE "' run --size 8 --out '" + dir_ + "/o'", dir_, err), 1);
     EXPECT_NE(err.find("--size 8: must be 64..2048"), std::string::npos) << err;
     std::ofstream(dir_ + "/bad.scn") << "name x\nkind descent\nseed nope\n";

@@ -41,13 +41,13 @@ void printGroup(vtm::tools::BudgetGroup group, const char* title) {
     std::size_t n = 0;
     const vtm::tools::BudgetEntry* e = vtm::tools::memoryBudget(&n);
     std::printf("\n%s\n", title);
-    std::printf("  %-50s %-14s %12s\n", "object", "library", "bytes");
+    std::printf("  %-60s %-14s %12s\n", "object", "library", "bytes");
     for (std::size_t i = 0; i < n; ++i) {
         if (e[i].group == group) {
-            std::printf("  %-50s %-14s %12zu\n", e[i].name, e[i].owner, e[i].bytes);
+            std::printf("  %-60s %-14s %12zu\n", e[i].name, e[i].owner, e[i].bytes);
         }
     }
-    std::printf("  %-50s %-14s %12zu\n", "total", "", vtm::tools::memoryBudgetTotal(group));
+    std::printf("  %-60s %-14s %12zu\n", "total", "", vtm::tools::memoryBudgetTotal(group));
 }
 
 void printBudget() {

@@ -5,6 +5,7 @@
 #include "hal/file/file_limits.hpp"
 #include "hal/file/file_odometry.hpp"
 #include "vtm/app/descent_mapper.hpp"
+#include "vtm/app/wide_baseline_mapper.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
 namespace vtm::tools {
@@ -28,11 +29,19 @@ std::size_t flightStereoWorkspace() {
 // window 11, a 512 x 512 elevation grid, refinement on (docs/app.md).
 std::size_t flightDescentWorkspace() { return app::DescentMapper::workspaceBytes(app::DescentMapperConfig{}); }
 
+// The rover's executive in its default configuration: 1024 x 1024 frames, 128
+// disparities (conservative checks), a 512 x 512 height map (docs/app.md).
+std::size_t flightWideBaselineWorkspace() {
+    return app::WideBaselineMapper::workspaceBytes(app::WideBaselineMapperConfig{});
+}
+
 const BudgetEntry kEntries[] = {
     {kF, "event log ring (hal::EventLog, 256 events)", "vtm_hal", sizeof(hal::EventLog)},
     {kF, "ML stereo workspace (1024x1024, 128 disparities)", "vtm_stereo", flightStereoWorkspace()},
     {kF, "descent mapper object (app::DescentMapper)", "vtm_app", sizeof(app::DescentMapper)},
     {kF, "descent mapper workspace (1024x1024, 64 planes)", "vtm_app", flightDescentWorkspace()},
+    {kF, "wide-baseline mapper object (app::WideBaselineMapper)", "vtm_app", sizeof(app::WideBaselineMapper)},
+    {kF, "wide-baseline mapper workspace (1024x1024, 128 disparities)", "vtm_app", flightWideBaselineWorkspace()},
     {kP, "hal::FileCamera (1024 frame records)", "vtm_hal_file", sizeof(hal::FileCamera)},
     {kP, "hal::FileOdometry (4096 poses)", "vtm_hal_file", sizeof(hal::FileOdometry)},
     {kP, "frame file buffer (shared)", "vtm_hal_file", hal::file_limits::kMaxFrameFileBytes},

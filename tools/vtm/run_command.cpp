@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "default_scenarios.hpp"
+#include "run_rover.hpp"
 #include "exit_codes.hpp"
 #include "hal/event_log.hpp"
 #include "hal/posix/monotonic_clock.hpp"
@@ -52,19 +53,28 @@ bool setValue(std::string& text, const std::string& key, const std::string& valu
 
 using World = ground::SimWorld;
 
-std::string buildWorld(const RunOptions& o, World& w, std::string& label) {
-    std::string text;
-    if (o.scenario.empty()) {
+// Reads the scenario named on the command line: a built-in name or a file.
+std::string scenarioText(const std::string& name, std::string& text, std::string& label) {
+    if (name == "descent") {
         text = kDefaultDescentScenario;
         label = "built-in descent (sim/scenarios/descent.scn)";
-    } else {
-        std::ifstream in(o.scenario, std::ios::binary);
-        if (!in) return o.scenario + ": cannot open";
-        std::stringstream s;
-        s << in.rdbuf();
-        text = s.str();
-        label = o.scenario;
+        return "";
     }
+    if (name == "rover") {
+        text = kDefaultRoverScenario;
+        label = "built-in rover pair (sim/scenarios/rover_wide_baseline.scn)";
+        return "";
+    }
+    std::ifstream in(name, std::ios::binary);
+    if (!in) return name + ": cannot open (a scenario file, or one of the built-ins: rover, descent)";
+    std::stringstream s;
+    s << in.rdbuf();
+    text = s.str();
+    label = name;
+    return "";
+}
+
+std::string buildWorld(const RunOptions& o, std::string text, const std::string& label, World& w) {
     if (o.size_px > 0) {
         if (o.size_px < 64 || o.size_px > 2048) return "--size " + std::to_string(o.size_px) + ": must be 64..2048";
         if (!setValue(text, "width_px", std::to_string(o.size_px)) ||
@@ -75,9 +85,9 @@ std::string buildWorld(const RunOptions& o, World& w, std::string& label) {
     sim::Scenario probe;
     const Status st = sim::parseScenario(text, probe);
     if (!st.isOk()) return label + ": line " + std::to_string(st.detail()) + ": " + st.reason();
-    if (probe.kind != sim::ScenarioKind::kDescent) {
-        return label + ": only descent scenarios fly today (the rover's executive, WideBaselineMapper, is issue 7's "
-                       "next part)";
+    if (probe.kind != sim::ScenarioKind::kDescent && probe.kind != sim::ScenarioKind::kRoverPair) {
+        return label + ": vtm run flies rover_pair and descent scenarios (this one is neither: a traverse has no "
+                       "executive yet)";
     }
     std::fprintf(stderr, "vtm run: building the world of %s\n", label.c_str());
     const std::string built = ground::buildSimWorld(text, w);
@@ -261,13 +271,12 @@ std::string writeProducts(const std::string& dir, const app::DescentProducts& p,
     return r.ok ? "" : r.error;
 }
 
-void writeReport(const std::string& dir, const std::string& label, const app::DescentMapperConfig& c,
-                 std::size_t memory, const std::vector<PairRow>& rows, double total_s) {
+std::string descentSection(const app::DescentMapperConfig& c, std::size_t memory, const std::vector<PairRow>& rows,
+                           double total_s) {
     std::ostringstream md;
-    md << "# VTM run: " << label << "\n\n"
-       << "Flown in process: simulated world and frames (sim/), SimCamera and SimOdometry (hal/sim, the odometry "
-          "with its navigation errors), the flight executive `DescentMapper` (fsw/app). Every figure below was "
-          "measured in this run against the simulator's truth (renderer depth and points of image 1).\n\n"
+    md << "## Descent\n\n"
+       << "The executive `DescentMapper` (fsw/app) on the descent camera's frames (SimCamera), the poses from "
+          "SimOdometry with its navigation errors; figures against the renderer's depth and points of image 1.\n\n"
        << "Frames " << c.sweep.max_width << " x " << c.sweep.max_height << ", " << c.sweep.planes << " planes, window "
        << c.sweep.window << ", grid " << c.grid_cells << " cells; mapper memory planned at init: " << memory
        << " bytes. Total " << total_s << " s.\n\n"
@@ -294,7 +303,7 @@ void writeReport(const std::string& dir, const std::string& label, const app::De
     md << "\nThe elevation map is placed by the navigation's pose of camera 1: its mean error is the navigation's "
           "position error (the images fix the relative pose, not the absolute one); the RMS about it is the map's "
           "own error.\n";
-    md << "\n## Time per stage (ms, hal::MonotonicClock on this host)\n\n| pair |";
+    md << "\n### Time per stage (ms, hal::MonotonicClock on this host)\n\n| pair |";
     const PairRow* first = nullptr;
     for (const PairRow& r : rows) {
         if (r.ok) { first = &r; break; }
@@ -311,10 +320,10 @@ void writeReport(const std::string& dir, const std::string& label, const app::De
             md << "\n";
         }
     }
-    md << "\n## Products\n\n";
+    md << "\n### Products\n\n";
     for (const PairRow& r : rows) {
         if (!r.ok) continue;
-        md << "### Pair " << r.index << "\n\n"
+        md << "#### Pair " << r.index << "\n\n"
            << "Image 1, image 2 (closer), depth of image 1 (near red ... far purple, black: no depth), shaded "
               "elevation (high red ... low purple, north up):\n\n"
            << "![image 1](" << r.prefix << "_image1.png) ![image 2](" << r.prefix << "_image2.png)\n"
@@ -322,13 +331,17 @@ void writeReport(const std::string& dir, const std::string& label, const app::De
            << "Files: `" << r.prefix << "_elevation.pfm` (metres, NaN = NO_DATA), `" << r.prefix
            << "_depth.pfm`, `" << r.prefix << "_points.ply` (site frame).\n\n";
     }
-    std::ofstream(dir + "/report.md") << md.str();
+    return md.str();
+}
+
+void writeReport(const std::string& dir, const std::string& md) {
+    std::ofstream(dir + "/report.md") << md;
     // HTML: the same text with the pictures inline (a small Markdown subset rendered here).
     std::ostringstream html;
     html << "<!doctype html><html><head><meta charset=\"utf-8\"><title>VTM run</title><style>body{font-family:sans-serif;"
             "max-width:1200px;margin:auto}table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 6px}"
             "img{width:24%;margin:2px}</style></head><body>\n";
-    std::istringstream lines(md.str());
+    std::istringstream lines(md);
     std::string line;
     bool in_table = false;
     while (std::getline(lines, line)) {
@@ -346,6 +359,8 @@ void writeReport(const std::string& dir, const std::string& label, const app::De
                 p = q + 1;
             }
             html << "</tr>\n";
+        } else if (line.rfind("#### ", 0) == 0) {
+            html << "<h4>" << line.substr(5) << "</h4>\n";
         } else if (line.rfind("### ", 0) == 0) {
             html << "<h3>" << line.substr(4) << "</h3>\n";
         } else if (line.rfind("## ", 0) == 0) {
@@ -369,47 +384,32 @@ void writeReport(const std::string& dir, const std::string& label, const app::De
     std::ofstream(dir + "/report.html") << html.str();
 }
 
-}  // namespace
-
-CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
-    CLI::App* cmd = app.add_subcommand("run", "fly a simulated mission in process and write products and a report");
-    cmd->add_option("SCENARIO", o.scenario, "scenario file (default: the built-in descent)");
-    cmd->add_option("--out", o.out_dir, "output folder (default vtm-run)");
-    cmd->add_option("--size", o.size_px, "override the camera's width and height, px (64..2048; quick runs)");
-    return cmd;
-}
-
-int runMission(const RunOptions& o) {
+// The descent: one request per pair of frames (0+1, 2+3, ...). Appends the report's
+// section; counts the requests and the failed ones.
+std::string flyDescent(const World& world, const std::string& out_dir, std::string& section, int& requests,
+                       int& failures) {
     const auto t0 = std::chrono::steady_clock::now();
-    std::error_code ec;
-    fs::create_directories(o.out_dir, ec);
-    if (ec) return fail(o.out_dir + ": cannot create: " + ec.message());
-    auto world = std::make_unique<World>();
-    std::string label;
-    const std::string e = buildWorld(o, *world, label);
-    if (!e.empty()) return fail(e);
-    std::fprintf(stderr, "vtm run: world built in %.1f s, %d frames\n", secondsSince(t0), world->frames->count);
     auto camera = std::make_unique<hal::SimCamera>();
     auto odometry = std::make_unique<hal::SimOdometry>();
     hal::SimCamera::Config cc;
-    cc.scenario = &world->scenario;
-    cc.terrain = &world->terrain;
-    cc.frames = world->frames.get();
+    cc.scenario = &world.scenario;
+    cc.terrain = &world.terrain;
+    cc.frames = world.frames.get();
     Status st = camera->init(cc);
-    if (st.isOk()) st = odometry->init({world->frames.get(), nullptr});
-    if (!st.isOk()) return fail(label + ": simulated drivers: " + st.reason());
+    if (st.isOk()) st = odometry->init({world.frames.get(), nullptr});
+    if (!st.isOk()) return std::string("simulated drivers: ") + st.reason();
     hal::MonotonicClock clock;
     auto events = std::make_unique<hal::EventLog>();
-    const app::DescentMapperConfig config = configFor(*world);
+    const app::DescentMapperConfig config = configFor(world);
     std::vector<std::byte> pool(app::DescentMapper::workspaceBytes(config) + 64U);
     Arena arena(pool.data(), pool.size());
     auto mapper = std::make_unique<app::DescentMapper>();
     st = mapper->init(config, arena, *camera, *odometry, clock, *events);
-    if (!st.isOk()) return fail(std::string("DescentMapper::init: ") + st.reason());
+    if (!st.isOk()) return std::string("DescentMapper::init: ") + st.reason();
     arena.freeze();
-    const int requests = world->frames->count / 2;
+    requests = world.frames->count / 2;
+    failures = 0;
     std::vector<PairRow> rows;
-    int failures = 0;
     for (int k = 0; k < requests; ++k) {
         PairRow row;
         row.index = k;
@@ -437,15 +437,77 @@ int runMission(const RunOptions& o) {
         row.dir_deg = p->refine_direction_deg;
         row.cells = static_cast<long long>(p->cells_filled);
         std::vector<Vec3> points;
-        row.accuracy = measure(*world, *p, points);
-        const std::string w = writeProducts(o.out_dir, *p, points, row);
-        if (!w.empty()) return fail(w);
+        row.accuracy = measure(world, *p, points);
+        const std::string w = writeProducts(out_dir, *p, points, row);
+        if (!w.empty()) return w;
         std::fprintf(stderr, "vtm run: pair %d/%d mapped in %.1f s: %.1f %% of image 1, median depth error %.2f %%\n",
                      k + 1, requests, row.seconds, 100.0 * row.accuracy.valid_fraction,
                      100.0 * row.accuracy.median_depth_rel);
         rows.push_back(row);
     }
-    writeReport(o.out_dir, label, config, mapper->memoryBytes(), rows, secondsSince(t0));
+    section = descentSection(config, mapper->memoryBytes(), rows, secondsSince(t0));
+    return "";
+}
+
+}  // namespace
+
+CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
+    CLI::App* cmd = app.add_subcommand("run", "fly a simulated mission in process and write products and a report");
+    cmd->add_option("SCENARIO", o.scenario,
+                    "scenario file, or a built-in: rover, descent (default: both built-ins, the rover pair first)");
+    cmd->add_option("--out", o.out_dir, "output folder (default vtm-run)");
+    cmd->add_option("--size", o.size_px, "override the camera's width and height, px (64..2048; quick runs)");
+    return cmd;
+}
+
+int runMission(const RunOptions& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::error_code ec;
+    fs::create_directories(o.out_dir, ec);
+    if (ec) return fail(o.out_dir + ": cannot create: " + ec.message());
+    std::vector<std::string> names;
+    if (o.scenario.empty()) {
+        names = {"rover", "descent"};
+    } else {
+        names = {o.scenario};
+    }
+    std::string sections;
+    std::string labels;
+    int requests = 0;
+    int failures = 0;
+    for (const std::string& name : names) {
+        std::string text;
+        std::string label;
+        std::string e = scenarioText(name, text, label);
+        auto world = std::make_unique<World>();
+        if (e.empty()) e = buildWorld(o, text, label, *world);
+        if (!e.empty()) return fail(e);
+        std::fprintf(stderr, "vtm run: world built in %.1f s, %d frames\n", world->terrain_seconds, world->frames->count);
+        labels += (labels.empty() ? "" : " + ") + label;
+        std::string section;
+        if (world->scenario.kind == sim::ScenarioKind::kRoverPair) {
+            bool mapped = false;
+            e = flyRover(*world, o.out_dir, section, mapped);
+            requests += 1;
+            failures += mapped ? 0 : 1;
+        } else {
+            int n = 0;
+            int failed = 0;
+            e = flyDescent(*world, o.out_dir, section, n, failed);
+            requests += n;
+            failures += failed;
+        }
+        if (!e.empty()) return fail(label + ": " + e);
+        sections += section;
+    }
+    std::ostringstream md;
+    md << "# VTM run: " << labels << "\n\n"
+       << "Flown in process: simulated worlds and frames (sim/), SimCamera and SimOdometry (hal/sim, the odometry "
+          "with its navigation errors), the flight executives (fsw/app). Every figure below was measured in this run "
+          "against the simulator's truth. " << (requests - failures) << " of " << requests << " requests mapped; total "
+       << secondsSince(t0) << " s.\n\n"
+       << sections;
+    writeReport(o.out_dir, md.str());
     std::printf("%s/report.md, %s/report.html: %d of %d requests mapped\n", o.out_dir.c_str(), o.out_dir.c_str(),
                 requests - failures, requests);
     return failures == 0 ? kExitOk : kExitInputError;

@@ -351,7 +351,7 @@ Status WideBaselineMapper::placeDisparityWindow() noexcept {
     // Two pixels of margin on each side for the subpixel fit and kOutOfRange.
     const double span = static_cast<double>(count - 1) - 4.0;
     std::int32_t best_lo = 0;
-    std::int32_t best_hi = 0;  // exclusive
+    std::int32_t best_hi = 1;  // exclusive; n >= 1: the first disparity alone is a window
     std::int32_t hi = 0;
     for (std::int32_t lo = 0; lo < n; ++lo) {
         hi = hi > lo ? hi : lo;

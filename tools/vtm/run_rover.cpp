@@ -1,0 +1,340 @@
+#include "run_rover.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "hal/event_log.hpp"
+#include "hal/posix/monotonic_clock.hpp"
+#include "hal/sim/sim_camera.hpp"
+#include "hal/sim/sim_odometry.hpp"
+#include "sim/render.hpp"
+#include "vtm/app/wide_baseline_mapper.hpp"
+#include "vtm/ground/disparity_colormap.hpp"
+#include "vtm/ground/image_io.hpp"
+#include "vtm/ground/pfm.hpp"
+#include "vtm/ground/terrain_products.hpp"
+
+namespace vtm::tools {
+namespace {
+
+using ground::FloatImage;
+using ground::GreyImage;
+
+constexpr double kDegPerRad = 57.29577951308232;
+
+Mat3 rotationOf(const double q[4]) { return Quat(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix(); }
+
+// The flight defaults (docs/app.md) at the scenario camera's size; the mount is the
+// simulator's camera pose in its vehicle frame (the calibration).
+app::WideBaselineMapperConfig configFor(const sim::ScenarioFrame& f) {
+    app::WideBaselineMapperConfig c;
+    const std::int32_t w = f.model.width_px;
+    const std::int32_t h = f.model.height_px;
+    c.frame_width = c.detector.max_width = c.matcher.max_width = c.rectify.max_width = c.stereo.max_width = w;
+    c.frame_height = c.detector.max_height = c.matcher.max_height = c.rectify.max_height = c.stereo.max_height = h;
+    c.match_margin_px = 75.0 * static_cast<double>(std::max(w, h)) / 1024.0;  // the heading error in pixels
+    const Mat3 R_site_from_vehicle = rotationOf(f.true_pose.attitude_wxyz);
+    const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
+    c.mount.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R_site_from_ref;
+    c.mount.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.position_site_m - vehicle);
+    return c;
+}
+
+const sim::ScenarioFrame* frameAt(const ground::SimWorld& w, std::uint64_t t_ns) {
+    for (std::int32_t i = 0; i < w.frames->count; ++i) {
+        if (w.frames->frames[i].timestamp_ns == t_ns) return &w.frames->frames[i];
+    }
+    return nullptr;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+struct Measured {
+    double rot_before_deg = 0.0, rot_after_deg = 0.0;
+    double dir_before_deg = 0.0, dir_after_deg = 0.0;
+    double baseline_scale_error = 0.0;  // odometry baseline length / true - 1
+    long long range_pixels = 0;         // image-1 pixels with a range and a true range
+    double range_median = 0.0;          // |range - true| / true
+    double range_within5 = 0.0;
+    double range_true_median_m = 0.0;   // of the mapped pixels: how far the map reaches
+    long long cells = 0;
+    double dz_median_m = 0.0;           // |map - terrain| at the cell centres
+    double dz_mean_m = 0.0;
+};
+
+// Range of image 1's pixels from the rectified disparities: each point back into camera 1
+// (nearest pixel; the nearer point wins). NaN where none.
+FloatImage rangeImage(const app::WideBaselineProducts& p) {
+    const CameraModel& cam = p.camera;
+    FloatImage range(cam.width_px, cam.height_px, 1, std::nanf(""));
+    const terrain::RectifiedGeometry& g = p.triangulation_geometry;
+    terrain::TriangulationLimits limits;
+    limits.min_range_m = 1e-3;
+    limits.max_range_m = 1e6;
+    limits.max_sigma_ratio = 1e9;
+    for (std::int32_t y = 0; y < p.disparity_px16.height(); ++y) {
+        for (std::int32_t x = 0; x < p.disparity_px16.width(); ++x) {
+            const std::int16_t d16 = p.disparity_px16.row(y)[x];
+            if (d16 == stereo::kNoDisparity) continue;
+            terrain::TerrainPoint tp{};
+            if (!terrain::triangulatePixel(g, limits, x, y, d16 / static_cast<double>(stereo::kDisparityScale),
+                                           p.sigma_px.row(y)[x], tp).isOk()) {
+                continue;
+            }
+            const Vec3 site(tp.x_m, tp.y_m, tp.z_m);
+            Vec2 px;
+            if (!projectPoint(cam, p.R_site_from_cam1.transpose() * (site - p.position1_site_m), px).isOk()) continue;
+            const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
+            const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
+            if (ix < 0 || iy < 0 || ix >= cam.width_px || iy >= cam.height_px) continue;
+            const auto r = static_cast<float>((site - g.left_centre_site_m).norm());
+            float& cell = range.at(ix, iy);
+            if (!(cell <= r)) cell = r;
+        }
+    }
+    return range;
+}
+
+// The height map as an image, north up (row 0 = the grid's northern row), NaN = NO_DATA.
+FloatImage elevationImage(const terrain::HeightMap& map) {
+    const terrain::GridConfig& g = map.grid();
+    FloatImage out(g.cols, g.rows, 1, std::nanf(""));
+    for (std::int32_t row = 0; row < g.rows; ++row) {
+        for (std::int32_t col = 0; col < g.cols; ++col) {
+            if (map.count(col, row) != 0U) out.at(col, g.rows - 1 - row) = map.highest(col, row);
+        }
+    }
+    return out;
+}
+
+FloatImage cropToData(const FloatImage& g) {
+    std::int32_t x0 = g.width, y0 = g.height, x1 = -1, y1 = -1;
+    for (std::int32_t y = 0; y < g.height; ++y) {
+        for (std::int32_t x = 0; x < g.width; ++x) {
+            if (std::isfinite(g.at(x, y))) {
+                x0 = std::min(x0, x); x1 = std::max(x1, x);
+                y0 = std::min(y0, y); y1 = std::max(y1, y);
+            }
+        }
+    }
+    if (x1 < x0) return g;
+    FloatImage out(x1 - x0 + 1, y1 - y0 + 1);
+    for (std::int32_t y = y0; y <= y1; ++y) {
+        for (std::int32_t x = x0; x <= x1; ++x) out.at(x - x0, y - y0) = g.at(x, y);
+    }
+    return out;
+}
+
+GreyImage copy8(const ImageView<const std::uint8_t>& v) {
+    GreyImage out(v.width(), v.height());
+    for (std::int32_t y = 0; y < v.height(); ++y) {
+        for (std::int32_t x = 0; x < v.width(); ++x) out.at(x, y) = v.row(y)[x];
+    }
+    return out;
+}
+
+Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, const FloatImage& range) {
+    Measured m;
+    const sim::ScenarioFrame* f1 = frameAt(w, p.frame1.timestamp_ns);
+    const sim::ScenarioFrame* f2 = frameAt(w, p.frame2.timestamp_ns);
+    if (f1 == nullptr || f2 == nullptr) return m;
+    const Mat3 R_true = f2->camera_pose.R_site_from_ref.transpose() * f1->camera_pose.R_site_from_ref;
+    const Vec3 t_true = f2->camera_pose.R_site_from_ref.transpose() *
+                        (f1->camera_pose.position_site_m - f2->camera_pose.position_site_m);
+    m.rot_before_deg = kDegPerRad * motion::rotationAngleRad(p.odometry_R_2_from_1, R_true);
+    m.rot_after_deg = kDegPerRad * motion::rotationAngleRad(p.motion.R_b_from_a, R_true);
+    m.dir_before_deg = kDegPerRad * motion::directionAngleRad(p.odometry_t_2_from_1_m, t_true);
+    m.dir_after_deg = kDegPerRad * motion::directionAngleRad(p.motion.t_b_from_a_m, t_true);
+    m.baseline_scale_error = p.odometry_t_2_from_1_m.norm() / t_true.norm() - 1.0;
+    // The renderer's true range of image 1.
+    const std::int32_t W = range.width, H = range.height;
+    std::vector<std::uint8_t> img(static_cast<std::size_t>(W) * static_cast<std::size_t>(H));
+    std::vector<std::uint16_t> img16(img.size());
+    std::vector<float> truth(img.size());
+    sim::FrameOutput o;
+    if (w.scenario.sensor.bit_depth > 8) {
+        o.image16 = ImageView<std::uint16_t>(img16.data(), W, H);
+    } else {
+        o.image8 = ImageView<std::uint8_t>(img.data(), W, H);
+    }
+    o.truth.range_m = ImageView<float>(truth.data(), W, H);
+    if (!sim::renderFrame(sim::scenarioFrameRequest(w.scenario, w.terrain, *f1), o, nullptr).isOk()) return m;
+    std::vector<double> rel, reach;
+    for (std::int32_t y = 0; y < H; ++y) {
+        for (std::int32_t x = 0; x < W; ++x) {
+            const float r = range.at(x, y);
+            const float t = truth[static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x)];
+            if (!std::isfinite(r) || !std::isfinite(t)) continue;
+            rel.push_back(std::fabs(static_cast<double>(r - t)) / t);
+            reach.push_back(t);
+        }
+    }
+    m.range_pixels = static_cast<long long>(rel.size());
+    m.range_median = median(rel);
+    m.range_true_median_m = median(reach);
+    m.range_within5 = rel.empty() ? 0.0
+                                  : static_cast<double>(std::count_if(rel.begin(), rel.end(),
+                                                                      [](double e) { return e <= 0.05; })) /
+                                        static_cast<double>(rel.size());
+    const terrain::HeightMap& map = *p.height_map;
+    const terrain::GridConfig& g = map.grid();
+    std::vector<double> dz;
+    double sum = 0.0;
+    for (std::int32_t row = 0; row < g.rows; ++row) {
+        for (std::int32_t col = 0; col < g.cols; ++col) {
+            if (map.count(col, row) == 0U) continue;
+            const double e = static_cast<double>(map.highest(col, row)) -
+                             w.terrain.elevationAt(g.origin_north_m + (row + 0.5) * g.cell_m,
+                                                   g.origin_east_m + (col + 0.5) * g.cell_m);
+            dz.push_back(std::fabs(e));
+            sum += e;
+        }
+    }
+    m.cells = static_cast<long long>(dz.size());
+    m.dz_median_m = median(dz);
+    m.dz_mean_m = dz.empty() ? 0.0 : sum / static_cast<double>(dz.size());
+    return m;
+}
+
+std::string writeProducts(const std::string& dir, const app::WideBaselineProducts& p, const FloatImage& range) {
+    const std::string base = dir + "/rover_";
+    FloatImage disparity(p.disparity_px16.width(), p.disparity_px16.height(), 1, std::nanf(""));
+    for (std::int32_t y = 0; y < disparity.height; ++y) {
+        for (std::int32_t x = 0; x < disparity.width; ++x) {
+            const std::int16_t d = p.disparity_px16.row(y)[x];
+            if (d != stereo::kNoDisparity) disparity.at(x, y) = static_cast<float>(d) / stereo::kDisparityScale;
+        }
+    }
+    std::vector<Vec3> points;
+    points.reserve(p.points.size());
+    for (const terrain::TerrainPoint& q : p.points) points.emplace_back(q.x_m, q.y_m, q.z_m);
+    const FloatImage elevation = elevationImage(*p.height_map);
+    ground::Outcome r = ground::writePng(base + "image1.png", copy8(p.image1));
+    if (r.ok) r = ground::writePng(base + "image2.png", copy8(p.image2));
+    if (r.ok) r = ground::writePng(base + "rectified1.png", copy8(p.rectified1));
+    if (r.ok) r = ground::writePng(base + "rectified2.png", copy8(p.rectified2));
+    if (r.ok) r = ground::writePfm(base + "disparity.pfm", disparity);
+    if (r.ok) {
+        r = ground::writePng(base + "disparity.png",
+                             ground::colorizeDisparity(disparity, static_cast<float>(p.disparity_min),
+                                                       static_cast<float>(p.disparity_max)));
+    }
+    if (r.ok) r = ground::writePfm(base + "range.pfm", range);
+    if (r.ok) r = ground::writePfm(base + "elevation.pfm", elevation);
+    if (r.ok) {
+        r = ground::writePng(base + "elevation.png",
+                             ground::shadedRelief(cropToData(elevation), p.height_map->grid().cell_m));
+    }
+    if (r.ok) r = ground::writePly(base + "points.ply", points);
+    return r.ok ? "" : r.error;
+}
+
+}  // namespace
+
+std::string flyRover(const ground::SimWorld& world, const std::string& out_dir, std::string& section, bool& mapped) {
+    mapped = false;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto camera = std::make_unique<hal::SimCamera>();
+    auto odometry = std::make_unique<hal::SimOdometry>();
+    hal::SimCamera::Config cc;
+    cc.scenario = &world.scenario;
+    cc.terrain = &world.terrain;
+    cc.frames = world.frames.get();
+    cc.camera_id = sim::kMainCameraId;
+    Status st = camera->init(cc);
+    if (st.isOk()) st = odometry->init({world.frames.get(), nullptr});
+    if (!st.isOk()) return std::string("simulated drivers: ") + st.reason();
+    hal::MonotonicClock clock;
+    auto events = std::make_unique<hal::EventLog>();
+    const app::WideBaselineMapperConfig config = configFor(world.frames->frames[0]);
+    std::vector<std::byte> pool(app::WideBaselineMapper::workspaceBytes(config) + 64U);
+    Arena arena(pool.data(), pool.size());
+    auto mapper = std::make_unique<app::WideBaselineMapper>();
+    st = mapper->init(config, arena, *camera, *odometry, clock, *events);
+    if (!st.isOk()) return std::string("WideBaselineMapper::init: ") + st.reason();
+    arena.freeze();
+    std::fprintf(stderr, "vtm run: rover pair: mapping (%d x %d, %d disparities)\n", config.frame_width,
+                 config.frame_height, config.stereo.d_max - config.stereo.d_min + 1);
+    const auto tm = std::chrono::steady_clock::now();
+    st = mapper->map();
+    const double map_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
+    std::ostringstream md;
+    char b[1024];
+    md << "## Rover wide-baseline pair\n\n"
+       << "The executive `WideBaselineMapper` (fsw/app) on frames 0 and 1 of the mast camera (SimCamera), the poses "
+          "from SimOdometry with its navigation errors. Frames "
+       << config.frame_width << " x " << config.frame_height << ", " << (config.stereo.d_max - config.stereo.d_min + 1)
+       << " disparities, ranges " << config.range_min_m << ".." << config.range_max_m << " m, height map "
+       << config.grid.cols << " x " << config.grid.rows << " cells of " << config.grid.cell_m
+       << " m; mapper memory planned at init: " << mapper->memoryBytes() << " bytes.\n\n";
+    const app::WideBaselineProducts* p = mapper->products();
+    if (!st.isOk() || p == nullptr) {
+        const app::StageRecord* f = mapper->stages().failed();
+        const std::string failure = std::string(f != nullptr ? app::stageName(f->stage) : "?") + ": " + st.reason();
+        std::fprintf(stderr, "vtm run: rover pair failed at %s\n", failure.c_str());
+        md << "**Request failed** at " << failure << ".\n\n";
+        section = md.str();
+        return "";
+    }
+    mapped = true;
+    const FloatImage range = rangeImage(*p);
+    const Measured m = measure(world, *p, range);
+    const std::string written = writeProducts(out_dir, *p, range);
+    if (!written.empty()) return written;
+    std::snprintf(b, sizeof b,
+                  "| figure | value |\n|---|---|\n"
+                  "| matches / inliers | %d / %d |\n"
+                  "| rotation error against truth: odometry -> refined | %.3f -> %.3f deg |\n"
+                  "| translation direction error: odometry -> refined | %.3f -> %.3f deg |\n"
+                  "| baseline length error (odometry, kept) | %+.2f %% |\n"
+                  "| disparity window | %d..%d px (%d of the inliers inside) |\n"
+                  "| disparities found / dropped by the ground bound | %d / %d |\n"
+                  "| points triangulated | %d |\n"
+                  "| image-1 pixels with a range | %lld (%.1f %%), true range median %.1f m |\n"
+                  "| range error: median / within 5 %% | %.2f %% / %.1f %% |\n"
+                  "| height map: cells / median abs error / mean error | %lld / %.3f m / %+.3f m |\n"
+                  "| time of the request | %.2f s |\n\n",
+                  p->matching.matched, p->motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
+                  m.dir_after_deg, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
+                  p->features_in_window, p->stereo.valid_pixels, p->outside_window, p->triangulation.points,
+                  m.range_pixels, 100.0 * static_cast<double>(m.range_pixels) / (range.width * range.height),
+                  m.range_true_median_m, 100.0 * m.range_median, 100.0 * m.range_within5, m.cells, m.dz_median_m,
+                  m.dz_mean_m, map_s);
+    md << b
+       << "Range and height errors are against the renderer's true range of image 1 and the terrain's elevation at "
+          "the cell centres. A residual rotation error about the vertical shifts every disparity alike and scales "
+          "the far ranges (docs/app.md).\n\n"
+       << "### Time per stage (ms, hal::MonotonicClock on this host)\n\n|";
+    for (std::size_t i = 0; i < mapper->stages().size(); ++i) md << " " << app::stageName(mapper->stages().at(i).stage) << " |";
+    md << "\n|";
+    for (std::size_t i = 0; i < mapper->stages().size(); ++i) md << "---|";
+    md << "\n|";
+    for (std::size_t i = 0; i < mapper->stages().size(); ++i) {
+        std::snprintf(b, sizeof b, " %.1f |", 1e-6 * static_cast<double>(mapper->stages().at(i).duration_ns));
+        md << b;
+    }
+    md << "\n\n### Products\n\n"
+       << "Image 1, image 2 (after the drive), the rectified pair, the disparity of rectified image 1 (near red ... "
+          "far purple, black: none) and the shaded height map (north up):\n\n"
+       << "![image 1](rover_image1.png) ![image 2](rover_image2.png)\n"
+       << "![rectified 1](rover_rectified1.png) ![rectified 2](rover_rectified2.png)\n"
+       << "![disparity](rover_disparity.png) ![elevation](rover_elevation.png)\n\n"
+       << "Files: `rover_disparity.pfm` (px, NaN = none), `rover_range.pfm` (metres per pixel of image 1), "
+          "`rover_elevation.pfm` (metres, north up, NaN = NO_DATA), `rover_points.ply` (site frame).\n\n";
+    section = md.str();
+    std::fprintf(stderr, "vtm run: rover pair mapped in %.1f s: %lld points, median range error %.2f %%\n",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                 static_cast<long long>(p->triangulation.points), 100.0 * m.range_median);
+    return "";
+}
+
+}  // namespace vtm::tools
