@@ -99,6 +99,7 @@ WideBaselineMapperConfig configFor(std::int32_t size) {
     return c;
 }
 
+#if !defined(VTM_TEST_UNDER_EMULATOR)
 const sim::ScenarioFrame* frameAt(std::uint64_t timestamp_ns) {
     const sim::ScenarioFrames& f = world().frames;
     for (std::int32_t i = 0; i < f.count; ++i) {
@@ -108,6 +109,7 @@ const sim::ScenarioFrame* frameAt(std::uint64_t timestamp_ns) {
     }
     return nullptr;
 }
+#endif
 
 class WideBaselineMapperTest : public ::testing::Test {
 protected:
@@ -148,6 +150,7 @@ protected:
     std::unique_ptr<WideBaselineMapper> mapper_ = std::make_unique<WideBaselineMapper>();
 };
 
+#if !defined(VTM_TEST_UNDER_EMULATOR)
 // The true relative pose of the pair (camera reference frames, X2 = R X1 + t).
 void trueRelativePose(const sim::ScenarioFrame& f1, const sim::ScenarioFrame& f2, Mat3& R, Vec3& t) {
     R = f2.camera_pose.R_site_from_ref.transpose() * f1.camera_pose.R_site_from_ref;
@@ -249,7 +252,6 @@ MapError mapError(const terrain::HeightMap& map) {
     return e;
 }
 
-#if !defined(VTM_TEST_UNDER_EMULATOR)
 TEST_F(WideBaselineMapperTest, MapsTheRoverPairWithinTheRangeAndHeightTargets) {
     const WideBaselineMapperConfig c = configFor(kSize);
     ASSERT_TRUE(start(c, WideBaselineMapper::workspaceBytes(c)).isOk());

@@ -10,7 +10,7 @@
  * only on a fault). One counter for all vCPUs: meant for single-threaded guests.
  *
  * Build (host):  gcc -O2 -shared -fPIC -fvisibility=hidden -o libinsn_count.so insn_count.c
- * Run:           qemu-ppc -plugin ./libinsn_count.so,outfile=count.txt[,mode=insn|tb][,symbol=SUBSTR][,profile=on] prog args
+ * Run:           qemu-ppc -plugin ./libinsn_count.so,outfile=count.txt[,mode=insn|tb][,symbol=SUBSTR][,profile=on][,marker=NAME] prog args
  * Arguments:
  *   outfile=PATH   write "insns N" to PATH (truncated) instead of stderr
  *   mode=insn|tb   per-instruction inline add (default) or per-TB inline add
@@ -19,6 +19,12 @@
  *                  "insns_in_symbol N"
  *   profile=on     additionally count (mode=insn only) per containing ELF symbol; printed
  *                  as "symbol N NAME" lines (mangled), largest first
+ *   marker=NAME    every time a translated block that starts in the ELF symbol NAME (an
+ *                  unmangled, one-block function such as tests/bench/mapper_probe.cpp's
+ *                  vtm_probe_mark) begins to execute, the running total is recorded;
+ *                  printed as "mark K N" lines (K = 0, 1, ...), at most 65536. The
+ *                  instructions between two marks are exact up to the marker block's own
+ *                  few instructions.
  * Output line(s): "insns N" (then "insns_in_symbol N", "symbol N NAME"), decimal.
  * The containing symbol is QEMU's lookup of the guest binary's symbol table (the
  * nearest symbol at or below the address): code inlined into a function counts for
@@ -39,6 +45,18 @@ static int per_tb;              /* mode=tb */
 static const char *symbol_filter;
 static const char *outfile;
 static int profile;
+static const char *marker;
+#define MAX_MARKS 65536u
+static uint64_t marks[MAX_MARKS];
+static unsigned n_marks;
+
+static void on_marker(unsigned int vcpu_index, void *userdata) {
+    (void)vcpu_index;
+    (void)userdata;
+    if (n_marks < MAX_MARKS) {
+        marks[n_marks++] = insn_total;
+    }
+}
 
 /* Per-symbol counters for profile=on: a fixed open-addressing table filled at
  * translation time (the inline ops need stable counter addresses, so it never moves). */
@@ -84,6 +102,12 @@ static int by_count_desc(const void *a, const void *b) {
 static void on_tb_translated(qemu_plugin_id_t id, struct qemu_plugin_tb *tb) {
     (void)id;
     const size_t n = qemu_plugin_tb_n_insns(tb);
+    if (marker != NULL && n > 0) {
+        const char *sym = qemu_plugin_insn_symbol(qemu_plugin_tb_get_insn(tb, 0));
+        if (sym != NULL && strcmp(sym, marker) == 0) {
+            qemu_plugin_register_vcpu_tb_exec_cb(tb, on_marker, QEMU_PLUGIN_CB_NO_REGS, NULL);
+        }
+    }
     if (per_tb) {
         qemu_plugin_register_vcpu_tb_exec_inline(tb, QEMU_PLUGIN_INLINE_ADD_U64, &insn_total, n);
         return;
@@ -121,6 +145,9 @@ static void report_at_exit(qemu_plugin_id_t id, void *userdata) {
         fprintf(stderr, "insn_count: cannot open %s\n", outfile);
     }
     fputs(line, f != NULL ? f : stderr);
+    for (unsigned i = 0; i < n_marks; ++i) {
+        fprintf(f != NULL ? f : stderr, "mark %u %llu\n", i, (unsigned long long)marks[i]);
+    }
     if (profile) {
         qsort(profile_table, PROFILE_SLOTS, sizeof profile_table[0], by_count_desc);
         for (unsigned i = 0; i < PROFILE_SLOTS && profile_table[i].count > 0; ++i) {
@@ -151,10 +178,12 @@ QEMU_PLUGIN_EXPORT int qemu_plugin_install(qemu_plugin_id_t id, const qemu_info_
             per_tb = 0;
         } else if (strcmp(a, "profile=on") == 0) {
             profile = 1;
+        } else if (strncmp(a, "marker=", 7) == 0) {
+            marker = a + 7;
         } else if (strncmp(a, "symbol=", 7) == 0) {
             symbol_filter = a + 7;
         } else {
-            fprintf(stderr, "insn_count: unknown argument '%s' (outfile=, mode=insn|tb, symbol=, profile=on)\n", a);
+            fprintf(stderr, "insn_count: unknown argument '%s' (outfile=, mode=insn|tb, symbol=, profile=on, marker=)\n", a);
             return -1;
         }
     }

@@ -1,0 +1,198 @@
+// Cost probe of the two mapping executives in their default flight configuration, built
+// for every target. tools/budget/timing_budget.sh runs it on the host (stage times) and
+// under qemu-user with the instruction-counting plugin (instructions per stage, from the
+// plugin's per-symbol profile).
+//
+//   vtm_mapper_probe rover|descent MANIFEST POSE_LOG R00 R01 R02 R10 R11 R12 R20 R21 R22 PX PY PZ [RUNS]
+//
+// Frames from hal::FileCamera (MANIFEST: a `vtm-sim render` folder's <camera>.frames),
+// poses from hal::FileOdometry (POSE_LOG: its odometry.poses), the camera mount on the
+// vehicle as R_vehicle_from_camera (row-major) and the camera centre in the vehicle frame.
+// The mapper (WideBaselineMapper{} / DescentMapper{} defaults: 1024 x 1024, 128
+// disparities / 64 planes) flies one request RUNS times (default 1), the camera rewound
+// before each. Prints per run "run K status S" and per stage "stage NAME ms T quality Q"
+// (hal::MonotonicClock), then a hash of the products' bits (the same on every target).
+// Under qemu, tools/qemu/insn_count.c's marker=vtm_probe_mark brackets every stage.
+// Test code: the arena comes from the heap at start-up.
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <type_traits>
+#include <vector>
+
+#include "hal/event_log.hpp"
+#include "hal/file/file_camera.hpp"
+#include "hal/file/file_odometry.hpp"
+#include "hal/posix/monotonic_clock.hpp"
+#include "vtm/app/descent_mapper.hpp"
+#include "vtm/app/wide_baseline_mapper.hpp"
+
+// The stage marker: every stage reads the clock once when it starts and once when it ends
+// (app::detail::recordStage), so the qemu plugin's marker=vtm_probe_mark records the
+// instruction total at both ends of every stage. One block (a return), never inlined.
+extern "C" __attribute__((noinline)) void vtm_probe_mark() { __asm__ volatile("" ::: "memory"); }
+
+namespace {
+
+// hal::MonotonicClock with the marker call in front of every reading.
+class MarkedClock final : public vtm::hal::Clock {
+public:
+    [[nodiscard]] std::uint64_t monotonicNs() const override {
+        vtm_probe_mark();
+        return clock_.monotonicNs();
+    }
+
+private:
+    vtm::hal::MonotonicClock clock_;
+};
+
+double parseDouble(const char* s, const char* what) {
+    char* end = nullptr;
+    const double v = std::strtod(s, &end);
+    if (end == s || *end != '\0') {
+        std::fprintf(stderr, "mapper_probe: %s: '%s' is not a number\n", what, s);
+        std::exit(2);
+    }
+    return v;
+}
+
+// FNV-1a over values, each in little-endian byte order (the same bits hash the same on
+// big-endian targets).
+std::uint64_t fnvByte(std::uint64_t h, unsigned b) { return (h ^ (b & 0xFFU)) * 1099511628211ULL; }
+
+std::uint64_t fnvValue(std::uint64_t h, std::uint32_t bits, int bytes) {
+    for (int i = 0; i < bytes; ++i) {
+        h = fnvByte(h, bits >> (8 * i));
+    }
+    return h;
+}
+
+std::uint64_t hashValue(std::uint64_t h, float v) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    return fnvValue(h, bits, 4);
+}
+
+std::uint64_t hashValue(std::uint64_t h, std::int16_t v) {
+    return fnvValue(h, static_cast<std::uint16_t>(v), 2);
+}
+
+template <typename T>
+std::uint64_t hashView(std::uint64_t h, const vtm::ImageView<const T>& v) {
+    for (std::int32_t y = 0; y < v.height(); ++y) {
+        for (std::int32_t x = 0; x < v.width(); ++x) {
+            h = hashValue(h, v.row(y)[x]);
+        }
+    }
+    return h;
+}
+
+void printStages(const vtm::app::StageLog& log) {
+    for (std::size_t i = 0; i < log.size(); ++i) {
+        const vtm::app::StageRecord& r = log.at(i);
+        std::printf("stage %s ms %.3f quality %lld\n", vtm::app::stageName(r.stage),
+                    1e-6 * static_cast<double>(r.duration_ns), static_cast<long long>(r.quality));
+    }
+}
+
+template <typename Mapper, typename Config>
+int fly(Config config, vtm::hal::FileCamera& camera, vtm::hal::FileOdometry& odometry, int runs) {
+    std::vector<std::byte> pool(Mapper::workspaceBytes(config) + 64U);
+    vtm::Arena arena(pool.data(), pool.size());
+    static MarkedClock clock;
+    static vtm::hal::EventLog events;
+    auto mapper = std::make_unique<Mapper>();
+    vtm::Status st = mapper->init(config, arena, camera, odometry, clock, events);
+    if (!st.isOk()) {
+        std::fprintf(stderr, "mapper_probe: init: %s (%lld)\n", st.reason(), static_cast<long long>(st.detail()));
+        return 1;
+    }
+    arena.freeze();
+    std::printf("memory object %zu workspace %zu\n", sizeof(Mapper), Mapper::workspaceBytes(config));
+    int failed = 0;
+    for (int k = 0; k < runs; ++k) {
+        camera.rewind();
+        st = mapper->map();
+        std::printf("run %d status %s %s\n", k, vtm::statusCodeName(st.code()), st.isOk() ? "" : st.reason());
+        printStages(mapper->stages());
+        failed += st.isOk() ? 0 : 1;
+        while (events.size() > 0U) {
+            vtm::hal::Event e;
+            (void)events.pop(e);
+        }
+    }
+    std::uint64_t h = 1469598103934665603ULL;
+    if constexpr (std::is_same_v<Mapper, vtm::app::WideBaselineMapper>) {
+        const vtm::app::WideBaselineProducts* p = mapper->products();
+        if (p != nullptr) {
+            h = hashView(h, p->disparity_px16);
+            for (const vtm::terrain::TerrainPoint& q : p->points) {
+                h = hashValue(hashValue(hashValue(hashValue(h, q.x_m), q.y_m), q.z_m), q.sigma_range_m);
+            }
+            std::printf("points %zu\n", p->points.size());
+        }
+    } else {
+        const vtm::app::DescentProducts* p = mapper->products();
+        if (p != nullptr) {
+            h = hashView(h, p->depth_m);
+            h = hashView(h, p->elevation_m);
+            std::printf("valid %lld\n", static_cast<long long>(p->sweep.valid_pixels));
+        }
+    }
+    std::printf("hash %016llx\n", static_cast<unsigned long long>(h));
+    return failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 16 && argc != 17) {
+        std::fprintf(stderr,
+                     "usage: vtm_mapper_probe rover|descent MANIFEST POSE_LOG R00 R01 R02 R10 R11 R12 R20 R21 R22 PX "
+                     "PY PZ [RUNS]\n");
+        return 2;
+    }
+    const bool rover = std::strcmp(argv[1], "rover") == 0;
+    if (!rover && std::strcmp(argv[1], "descent") != 0) {
+        std::fprintf(stderr, "mapper_probe: '%s': expected rover or descent\n", argv[1]);
+        return 2;
+    }
+    vtm::app::CameraMount mount;
+    for (int i = 0; i < 9; ++i) {
+        mount.R_vehicle_from_camera(i / 3, i % 3) = parseDouble(argv[4 + i], "mount rotation");
+    }
+    for (int i = 0; i < 3; ++i) {
+        mount.position_vehicle_m[i] = parseDouble(argv[13 + i], "mount position");
+    }
+    const int runs = argc == 17 ? static_cast<int>(parseDouble(argv[16], "RUNS")) : 1;
+    if (runs < 1 || runs > 100) {
+        std::fprintf(stderr, "mapper_probe: RUNS must be 1..100\n");
+        return 2;
+    }
+    static vtm::hal::FileCamera camera;
+    static vtm::hal::FileOdometry odometry;
+    vtm::hal::FileCamera::Config cc;
+    cc.manifest_path = argv[2];
+    vtm::Status st = camera.init(cc);
+    if (!st.isOk()) {
+        std::fprintf(stderr, "mapper_probe: %s: %s (%lld)\n", argv[2], st.reason(), static_cast<long long>(st.detail()));
+        return 1;
+    }
+    vtm::hal::FileOdometry::Config oc;
+    oc.pose_log_path = argv[3];
+    st = odometry.init(oc);
+    if (!st.isOk()) {
+        std::fprintf(stderr, "mapper_probe: %s: %s (%lld)\n", argv[3], st.reason(), static_cast<long long>(st.detail()));
+        return 1;
+    }
+    if (rover) {
+        vtm::app::WideBaselineMapperConfig c;
+        c.mount = mount;
+        return fly<vtm::app::WideBaselineMapper>(c, camera, odometry, runs);
+    }
+    vtm::app::DescentMapperConfig c;
+    c.mount = mount;
+    return fly<vtm::app::DescentMapper>(c, camera, odometry, runs);
+}
