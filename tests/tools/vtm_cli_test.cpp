@@ -106,6 +106,20 @@ TEST(VtmCli, ExistingCommandsKeepTheirBehaviour) {
     r = vtm(dir, "budget");
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_NE(r.out.find("Static memory budget"), std::string::npos);
+    EXPECT_NE(r.out.find("wide-baseline mapper workspace (1024x1024, 128 disparities)"), std::string::npos);
+}
+
+// `vtm budget --timing FILE` prints the report the timing script wrote, naming it; a
+// missing report is one line that says how to measure it.
+TEST(VtmCli, BudgetTimingPrintsTheMeasuredReportOrSaysHowToMeasureIt) {
+    test::TempDir dir;
+    CommandRun r = vtm(dir, "budget --timing " + dir.file("none.md"));
+    EXPECT_TRUE(failsWith(r, 1, dir.file("none.md") + ": cannot open; measure it first with tools/budget/timing_budget.sh"));
+    test::writeBytes(dir.file("t.md"), std::vector<std::uint8_t>{'|', ' ', 'r', 'e', 'f', 'i', 'n', 'e', ' ', '|', '\n'});
+    r = vtm(dir, "budget --timing " + dir.file("t.md"));
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("as measured by tools/budget/timing_budget.sh (" + dir.file("t.md") + ")"), std::string::npos);
+    EXPECT_NE(r.out.find("| refine |"), std::string::npos);
 }
 
 TEST(VtmCli, StereoRefusesMissingFile) {

@@ -1,7 +1,7 @@
 // vtm: the VTM command line (ground side).
 //   vtm            version, build configuration and the static memory budget
 //   vtm version    version only
-//   vtm budget     the static memory budget of the flight build
+//   vtm budget     the static memory budget of the flight build (--timing: the timing budget)
 //   vtm stereo     dense disparity of a rectified pair (stereo_command.hpp)
 //   vtm refine     refined relative motion of a wide-baseline pair (wide_baseline_command.hpp)
 //   vtm rectify    rectified pair from two images and their poses (wide_baseline_command.hpp)
@@ -11,6 +11,8 @@
 // docs/tools.md describes the commands, the file formats and the exit codes.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <fstream>
+#include <iostream>
 #include <string>
 
 #include "build_info.hpp"
@@ -55,7 +57,25 @@ void printBudget() {
     printGroup(vtm::tools::BudgetGroup::kPlaybackDriver,
                "Static memory of the file-playback driver (desk and HIL only, hal/file)");
     std::printf("\n  Per-library .text/.rodata/.data/.bss and worst-case stack per target:\n"
-                "  tools/budget/vtm_budget.py BUILD_DIR... (docs/budgets.md)\n");
+                "  tools/budget/vtm_budget.py BUILD_DIR... (docs/budgets.md)\n"
+                "  Per-stage time and instructions per target ISA: vtm budget --timing [FILE]\n");
+}
+
+// The timing budget that tools/budget/timing_budget.sh measured last (its Markdown
+// report), printed as it is: the numbers come from that run, which the file names.
+int printTiming(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) {
+        std::fprintf(stderr,
+                     "vtm budget: %s: cannot open; measure it first with tools/budget/timing_budget.sh "
+                     "(from the repository root; docs/budgets.md \"Timing\")\n",
+                     path.c_str());
+        return vtm::tools::kExitInputError;
+    }
+    std::printf("Timing budget: default flight configuration, as measured by tools/budget/timing_budget.sh (%s)\n\n",
+                path.c_str());
+    std::cout << in.rdbuf();
+    return vtm::tools::kExitOk;
 }
 
 }  // namespace
@@ -65,6 +85,11 @@ int main(int argc, char** argv) {
     app.require_subcommand(0, 1);
     CLI::App* version = app.add_subcommand("version", "print the version");
     CLI::App* budget = app.add_subcommand("budget", "print the static memory budget of the flight build");
+    std::string timing_path;
+    budget->add_option("--timing", timing_path,
+                       "print the timing budget measured by tools/budget/timing_budget.sh instead")
+        ->expected(0, 1)
+        ->default_str("build/timing/timing-budget.md");
     vtm::tools::StereoOptions stereo_options;
     CLI::App* stereo = vtm::tools::addStereoCommand(app, stereo_options);
     vtm::tools::WideBaselineOptions refine_options;
@@ -92,6 +117,9 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (budget->parsed()) {
+        if (budget->count("--timing") > 0U) {
+            return printTiming(timing_path.empty() ? "build/timing/timing-budget.md" : timing_path);
+        }
         printBudget();
         return 0;
     }
