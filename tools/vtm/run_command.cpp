@@ -113,13 +113,7 @@ app::DescentMapperConfig configFor(const World& w) {
         c.match_margin_px = 8.0;
     }
     c.grid_cells = std::max<std::int32_t>(16, std::max(width, height) / 2);  // cells of two pixels: the footprint
-    // The mount (calibration): the simulator's camera pose in its vehicle frame.
-    const Quat q(f.true_pose.attitude_wxyz[0], f.true_pose.attitude_wxyz[1], f.true_pose.attitude_wxyz[2],
-                 f.true_pose.attitude_wxyz[3]);
-    const Mat3 R_site_from_vehicle = q.normalized().toRotationMatrix();
-    const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
-    c.mount.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R_site_from_ref;
-    c.mount.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.position_site_m - vehicle);
+    c.mount = cameraMountOf(f);  // the calibration: the simulator's camera pose in its vehicle frame
     return c;
 }
 
@@ -211,25 +205,6 @@ GreyImage grey8Of(const ImageView<const std::uint16_t>& v, std::uint8_t bit_dept
     return out;
 }
 
-// The part of a grid that holds data (bounding box of the finite cells), for pictures.
-FloatImage cropToData(const FloatImage& g) {
-    std::int32_t x0 = g.width, y0 = g.height, x1 = -1, y1 = -1;
-    for (std::int32_t y = 0; y < g.height; ++y) {
-        for (std::int32_t x = 0; x < g.width; ++x) {
-            if (std::isfinite(g.at(x, y))) {
-                x0 = std::min(x0, x); x1 = std::max(x1, x);
-                y0 = std::min(y0, y); y1 = std::max(y1, y);
-            }
-        }
-    }
-    if (x1 < x0) return g;
-    FloatImage out(x1 - x0 + 1, y1 - y0 + 1);
-    for (std::int32_t y = y0; y <= y1; ++y) {
-        for (std::int32_t x = x0; x <= x1; ++x) out.at(x - x0, y - y0) = g.at(x, y);
-    }
-    return out;
-}
-
 struct PairRow {
     int index = 0;
     bool ok = false;
@@ -257,7 +232,7 @@ std::string writeProducts(const std::string& dir, const app::DescentProducts& p,
         if (std::isfinite(v)) { dlo = std::min(dlo, v); dhi = std::max(dhi, v); }
     }
     ground::Outcome r = ground::writePfm(base + "_elevation.pfm", elevation);
-    if (r.ok) r = ground::writePng(base + "_elevation.png", ground::shadedRelief(cropToData(elevation), p.grid.cell_m));
+    if (r.ok) r = ground::writePng(base + "_elevation.png", ground::shadedRelief(ground::cropToFinite(elevation), p.grid.cell_m));
     if (r.ok) r = ground::writePfm(base + "_depth.pfm", depth);
     // Depth coloured like disparity: near (small depth) red, far purple.
     FloatImage inverse(depth.width, depth.height, 1, std::nanf(""));

@@ -38,10 +38,7 @@ app::WideBaselineMapperConfig configFor(const sim::ScenarioFrame& f) {
     c.frame_width = c.detector.max_width = c.matcher.max_width = c.rectify.max_width = c.stereo.max_width = w;
     c.frame_height = c.detector.max_height = c.matcher.max_height = c.rectify.max_height = c.stereo.max_height = h;
     c.match_margin_px = 75.0 * static_cast<double>(std::max(w, h)) / 1024.0;  // the heading error in pixels
-    const Mat3 R_site_from_vehicle = rotationOf(f.true_pose.attitude_wxyz);
-    const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
-    c.mount.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R_site_from_ref;
-    c.mount.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.position_site_m - vehicle);
+    c.mount = cameraMountOf(f);
     return c;
 }
 
@@ -112,24 +109,6 @@ FloatImage elevationImage(const terrain::HeightMap& map) {
         for (std::int32_t col = 0; col < g.cols; ++col) {
             if (map.count(col, row) != 0U) out.at(col, g.rows - 1 - row) = map.highest(col, row);
         }
-    }
-    return out;
-}
-
-FloatImage cropToData(const FloatImage& g) {
-    std::int32_t x0 = g.width, y0 = g.height, x1 = -1, y1 = -1;
-    for (std::int32_t y = 0; y < g.height; ++y) {
-        for (std::int32_t x = 0; x < g.width; ++x) {
-            if (std::isfinite(g.at(x, y))) {
-                x0 = std::min(x0, x); x1 = std::max(x1, x);
-                y0 = std::min(y0, y); y1 = std::max(y1, y);
-            }
-        }
-    }
-    if (x1 < x0) return g;
-    FloatImage out(x1 - x0 + 1, y1 - y0 + 1);
-    for (std::int32_t y = y0; y <= y1; ++y) {
-        for (std::int32_t x = x0; x <= x1; ++x) out.at(x - x0, y - y0) = g.at(x, y);
     }
     return out;
 }
@@ -232,13 +211,22 @@ std::string writeProducts(const std::string& dir, const app::WideBaselineProduct
     if (r.ok) r = ground::writePfm(base + "elevation.pfm", elevation);
     if (r.ok) {
         r = ground::writePng(base + "elevation.png",
-                             ground::shadedRelief(cropToData(elevation), p.height_map->grid().cell_m));
+                             ground::shadedRelief(ground::cropToFinite(elevation), p.height_map->grid().cell_m));
     }
     if (r.ok) r = ground::writePly(base + "points.ply", points);
     return r.ok ? "" : r.error;
 }
 
 }  // namespace
+
+app::CameraMount cameraMountOf(const sim::ScenarioFrame& f) {
+    const Mat3 R_site_from_vehicle = rotationOf(f.true_pose.attitude_wxyz);
+    const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
+    app::CameraMount m;
+    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R_site_from_ref;
+    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.position_site_m - vehicle);
+    return m;
+}
 
 std::string flyRover(const ground::SimWorld& world, const std::string& out_dir, std::string& section, bool& mapped) {
     mapped = false;

@@ -5,9 +5,14 @@
 
 #include <string>
 
+#include "vtm/app/camera_mount.hpp"
 #include "vtm/ground/sim_world.hpp"
 
 namespace vtm::tools {
+
+// A camera's mount on its vehicle (the calibration): the simulator's TRUE camera pose of
+// a frame in the TRUE vehicle frame of the same frame.
+app::CameraMount cameraMountOf(const sim::ScenarioFrame& frame);
 
 // Flies the scenario's wide-baseline pair (frames 0 and 1 of the main camera) once.
 // Writes rover_* products into out_dir and returns the report's Markdown section in

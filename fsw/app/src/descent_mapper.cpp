@@ -27,7 +27,6 @@ Buffers buffersOf(const DescentMapperConfig& c) noexcept {
 }
 
 using detail::carve;
-using detail::positionSigmaMm;
 using detail::toGrey8;
 
 }  // namespace
@@ -41,10 +40,10 @@ motion::MotionConfig descentMotionConfig() noexcept {
 Status DescentMapperConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(sweep.validate());
     VTM_RETURN_IF_ERROR(validateMount(mount));
-    if (!math::isFinite(relief_fraction) || relief_fraction < 0.01 || relief_fraction > 0.9) {
+    if (!detail::inRange(relief_fraction, 0.01, 0.9)) {
         return invalid("relief_fraction: must be 0.01..0.9");
     }
-    if (!math::isFinite(parallax_factor) || parallax_factor < 0.0 || parallax_factor > 1000.0) {
+    if (!detail::inRange(parallax_factor, 0.0, 1000.0)) {
         return invalid("parallax_factor: must be 0..1000");
     }
     if (refine_pose) {
@@ -57,17 +56,17 @@ Status DescentMapperConfig::validate() const noexcept {
         if (matcher.max_width != sweep.max_width || matcher.max_height != sweep.max_height) {
             return invalid("matcher.max_width/max_height: must equal sweep.max_width/max_height", matcher.max_width);
         }
-        if (!math::isFinite(match_margin_px) || match_margin_px < 0.0 || match_margin_px > 1000.0) {
+        if (!detail::inRange(match_margin_px, 0.0, 1000.0)) {
             return invalid("match_margin_px: must be 0..1000");
         }
-        if (!math::isFinite(feature_depth_margin) || feature_depth_margin < 0.0 || feature_depth_margin > 0.9) {
+        if (!detail::inRange(feature_depth_margin, 0.0, 0.9)) {
             return invalid("feature_depth_margin: must be 0..0.9");
         }
     }
     if (grid_cells < 16 || grid_cells > kMaxGridCells) {
         return invalid("grid_cells: must be 16..4096", grid_cells);
     }
-    if (!math::isFinite(grid_cell_m) || grid_cell_m < 0.0 || grid_cell_m > 1.0e4) {
+    if (!detail::inRange(grid_cell_m, 0.0, 1.0e4)) {
         return invalid("grid_cell_m: must be 0 (one pixel at the camera height) or a cell in metres up to 1e4");
     }
     return Status::ok();
@@ -155,9 +154,7 @@ Status DescentMapper::capture(Stage stage, const ImageView<std::uint16_t>& image
 }
 
 Status DescentMapper::poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept {
-    const std::uint64_t t0 = clock_->monotonicNs();
-    const Status st = odometry_->poseAt(info.timestamp_ns, pose);
-    return finish(stage, st, st.isOk() ? positionSigmaMm(pose) : 0, t0);
+    return detail::poseStage(*odometry_, stages_, *events_, *clock_, stage, info, pose);
 }
 
 Status DescentMapper::setSweepRange(double zmin, double zmax) noexcept {

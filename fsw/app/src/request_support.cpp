@@ -24,6 +24,17 @@ std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept {
     return static_cast<std::int64_t>(std::floor(1000.0 * math::sqrt(trace > 0.0 ? trace : 0.0) + 0.5));
 }
 
+bool inRange(double value, double lo, double hi) noexcept {
+    return math::isFinite(value) && value >= lo && value <= hi;
+}
+
+Status poseStage(hal::Odometry& odometry, StageLog& log, hal::EventLog& events, const hal::Clock& clock,
+                 Stage stage, const hal::FrameInfo& frame, hal::PoseEstimate& pose) noexcept {
+    const std::uint64_t t0 = clock.monotonicNs();
+    const Status st = odometry.poseAt(frame.timestamp_ns, pose);
+    return recordStage(log, events, clock, stage, st, st.isOk() ? positionSigmaMm(pose) : 0, t0);
+}
+
 Status recordStage(StageLog& log, hal::EventLog& events, const hal::Clock& clock, Stage stage,
                    const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept {
     const std::uint64_t now = clock.monotonicNs();

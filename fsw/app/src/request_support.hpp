@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "hal/camera.hpp"
 #include "hal/clock.hpp"
 #include "hal/event_log.hpp"
 #include "hal/odometry.hpp"
@@ -28,9 +29,17 @@ void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth,
 // Position sigma (mm) of a pose: sqrt of the trace of its position covariance.
 [[nodiscard]] std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept;
 
+// Finite and within [lo, hi] (config checks).
+[[nodiscard]] bool inRange(double value, double lo, double hi) noexcept;
+
 // Appends a record of `stage` (begun at t0_ns on `clock`) to `log` and mirrors it to
 // `events` (stage_log.hpp has the event layout). Returns `status`.
 Status recordStage(StageLog& log, hal::EventLog& events, const hal::Clock& clock, Stage stage,
                    const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept;
+
+// The pose stage of both executives: odometry.poseAt(frame time), recorded with the
+// position sigma in mm as its quality.
+Status poseStage(hal::Odometry& odometry, StageLog& log, hal::EventLog& events, const hal::Clock& clock,
+                 Stage stage, const hal::FrameInfo& frame, hal::PoseEstimate& pose) noexcept;
 
 }  // namespace vtm::app::detail

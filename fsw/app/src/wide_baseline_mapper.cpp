@@ -11,7 +11,6 @@ namespace vtm::app {
 namespace {
 
 using detail::carve;
-using detail::positionSigmaMm;
 using detail::toGrey8;
 
 Status invalid(const char* reason, std::int64_t value = 0) noexcept {
@@ -93,13 +92,13 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     if (stereo.d_min != 0) {
         return invalid("stereo.d_min: must be 0 (the mapper places the disparity window per pair)", stereo.d_min);
     }
-    if (!math::isFinite(match_margin_px) || match_margin_px < 0.0 || match_margin_px > 1000.0) {
+    if (!detail::inRange(match_margin_px, 0.0, 1000.0)) {
         return invalid("match_margin_px: must be 0..1000");
     }
-    if (!math::isFinite(relief_below_m) || relief_below_m < 0.0 || relief_below_m > 1000.0) {
+    if (!detail::inRange(relief_below_m, 0.0, 1000.0)) {
         return invalid("relief_below_m: must be 0..1000");
     }
-    if (!math::isFinite(min_baseline_m) || min_baseline_m < 0.01 || min_baseline_m > 100.0) {
+    if (!detail::inRange(min_baseline_m, 0.01, 100.0)) {
         return invalid("min_baseline_m: must be 0.01..100");
     }
     return Status::ok();
@@ -197,9 +196,7 @@ Status WideBaselineMapper::capture(Stage stage, const ImageView<std::uint8_t>& i
 }
 
 Status WideBaselineMapper::poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept {
-    const std::uint64_t t0 = clock_->monotonicNs();
-    const Status st = odometry_->poseAt(info.timestamp_ns, pose);
-    return finish(stage, st, st.isOk() ? positionSigmaMm(pose) : 0, t0);
+    return detail::poseStage(*odometry_, stages_, *events_, *clock_, stage, info, pose);
 }
 
 Status WideBaselineMapper::planGeometry() noexcept {

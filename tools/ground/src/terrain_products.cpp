@@ -11,6 +11,26 @@
 
 namespace vtm::ground {
 
+FloatImage cropToFinite(const FloatImage& g) {
+    std::int32_t x0 = g.width, y0 = g.height, x1 = -1, y1 = -1;
+    for (std::int32_t y = 0; y < g.height; ++y) {
+        for (std::int32_t x = 0; x < g.width; ++x) {
+            if (std::isfinite(g.at(x, y))) {
+                x0 = std::min(x0, x);
+                x1 = std::max(x1, x);
+                y0 = std::min(y0, y);
+                y1 = std::max(y1, y);
+            }
+        }
+    }
+    if (x1 < x0) return g;
+    FloatImage out(x1 - x0 + 1, y1 - y0 + 1);
+    for (std::int32_t y = y0; y <= y1; ++y) {
+        for (std::int32_t x = x0; x <= x1; ++x) out.at(x - x0, y - y0) = g.at(x, y);
+    }
+    return out;
+}
+
 GreyImage shadedRelief(const FloatImage& elevation_m, double cell_m) {
     GreyImage out(elevation_m.width, elevation_m.height, 3, 0U);
     std::vector<float> values;

@@ -16,6 +16,10 @@ namespace vtm::ground {
 // ambient; a missing neighbour counts as level). NO_DATA cells are black.
 GreyImage shadedRelief(const FloatImage& elevation_m, double cell_m);
 
+// The part of a grid that holds data: the bounding box of its finite cells (the grid
+// itself when none is finite). For pictures of sparse maps.
+FloatImage cropToFinite(const FloatImage& grid);
+
 // Binary little-endian PLY with float x, y, z per vertex (site frame, metres).
 Outcome writePly(const std::string& path, const std::vector<Vec3>& points);
 
