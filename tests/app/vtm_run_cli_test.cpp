@@ -140,6 +140,34 @@ TEST_F(VtmRunCli, FliesTheBuiltInRoverPairAndItsRangeMatchesTheRenderedTruth) {
     }
 }
 
+// --link: the same descent flown against a separate `vtm-sim serve` over a Unix socket
+// (hal/link) gives the same bits as in process: the frames and poses that cross the link
+// are the simulated drivers' exactly.
+TEST_F(VtmRunCli, TheHilLinkFliesTheSameBitsAsInProcess) {
+    std::string err;
+    ASSERT_EQ(run("'" VTM_EXECUTABLE "' run descent --size 256 --out '" + dir_ + "/ip'", dir_, err), 0) << err;
+    ASSERT_EQ(run("'" VTM_EXECUTABLE "' run descent --size 256 --link --sim '" VTM_SIM_EXECUTABLE "' --out '" + dir_ +
+                      "/lk'",
+                  dir_, err),
+              0)
+        << err;
+    EXPECT_NE(err.find("vtm-sim serve: 8 frames"), std::string::npos) << err;
+    EXPECT_NE(slurp(dir_ + "/lk/report.md").find("link faults counted: 0"), std::string::npos);
+    for (int pair = 0; pair < 4; ++pair) {
+        for (const char* suffix : {"_depth.pfm", "_elevation.pfm"}) {
+            const std::string name = "/pair" + std::to_string(pair) + suffix;
+            const std::string a = slurp(dir_ + "/ip" + name);
+            ASSERT_GT(a.size(), 1000U) << name;
+            EXPECT_EQ(a, slurp(dir_ + "/lk" + name)) << name << " differs between in-process and link";
+        }
+    }
+    // A simulator that exits before it listens: one line, no minute-long wait.
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run descent --size 64 --link --sim /bin/false --out '" + dir_ + "/f'", dir_, err),
+              1);
+    EXPECT_NE(err.find("vtm-sim serve ended before it listened (exit status 1"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 4) << err;  // building, built, starting, then the error
+}
+
 TEST_F(VtmRunCli, BadInputsExitNonZeroWithOneLineNamingTheInput) {
     std::string err;
     EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" + dir_ + "/missing.scn' --out '" + dir_ + "/o'", dir_, err), 1);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "default_scenarios.hpp"
+#include "run_drivers.hpp"
 #include "run_rover.hpp"
 #include "exit_codes.hpp"
 #include "hal/event_log.hpp"
@@ -361,25 +362,16 @@ void writeReport(const std::string& dir, const std::string& md) {
 
 // The descent: one request per pair of frames (0+1, 2+3, ...). Appends the report's
 // section; counts the requests and the failed ones.
-std::string flyDescent(const World& world, const std::string& out_dir, std::string& section, int& requests,
-                       int& failures) {
+std::string flyDescent(const World& world, hal::Camera& camera, hal::Odometry& odometry, const std::string& out_dir,
+                       std::string& section, int& requests, int& failures) {
     const auto t0 = std::chrono::steady_clock::now();
-    auto camera = std::make_unique<hal::SimCamera>();
-    auto odometry = std::make_unique<hal::SimOdometry>();
-    hal::SimCamera::Config cc;
-    cc.scenario = &world.scenario;
-    cc.terrain = &world.terrain;
-    cc.frames = world.frames.get();
-    Status st = camera->init(cc);
-    if (st.isOk()) st = odometry->init({world.frames.get(), nullptr});
-    if (!st.isOk()) return std::string("simulated drivers: ") + st.reason();
     hal::MonotonicClock clock;
     auto events = std::make_unique<hal::EventLog>();
     const app::DescentMapperConfig config = configFor(world);
     std::vector<std::byte> pool(app::DescentMapper::workspaceBytes(config) + 64U);
     Arena arena(pool.data(), pool.size());
     auto mapper = std::make_unique<app::DescentMapper>();
-    st = mapper->init(config, arena, *camera, *odometry, clock, *events);
+    Status st = mapper->init(config, arena, camera, odometry, clock, *events);
     if (!st.isOk()) return std::string("DescentMapper::init: ") + st.reason();
     arena.freeze();
     requests = world.frames->count / 2;
@@ -432,6 +424,9 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
                     "scenario file, or a built-in: rover, descent (default: both built-ins, the rover pair first)");
     cmd->add_option("--out", o.out_dir, "output folder (default vtm-run)");
     cmd->add_option("--size", o.size_px, "override the camera's width and height, px (64..2048; quick runs)");
+    cmd->add_flag("--link", o.link,
+                  "fly against a separate `vtm-sim serve` process over a Unix socket (hal/link) instead of in process");
+    cmd->add_option("--sim", o.sim_executable, "the vtm-sim executable for --link (default: the one next to vtm)");
     return cmd;
 }
 
@@ -460,17 +455,35 @@ int runMission(const RunOptions& o) {
         std::fprintf(stderr, "vtm run: world built in %.1f s, %d frames\n", world->terrain_seconds, world->frames->count);
         labels += (labels.empty() ? "" : " + ") + label;
         std::string section;
-        if (world->scenario.kind == sim::ScenarioKind::kRoverPair) {
+        const bool rover = world->scenario.kind == sim::ScenarioKind::kRoverPair;
+        RunDrivers drivers;
+        if (o.link) {
+            const std::string sim = o.sim_executable.empty() ? defaultSimExecutable() : o.sim_executable;
+            std::fprintf(stderr, "vtm run: starting %s serve (HIL link, Unix socket)\n", sim.c_str());
+            // The rover pair is the first two frames (the main camera's); a descent is every frame.
+            e = drivers.startLink(sim, world->text, o.out_dir + "/" + (rover ? "rover" : "descent") + ".scn",
+                                  rover ? "2" : "");
+        } else {
+            e = drivers.startInProcess(*world);
+        }
+        if (!e.empty()) return fail(label + ": " + e);
+        if (rover) {
             bool mapped = false;
-            e = flyRover(*world, o.out_dir, section, mapped);
+            e = flyRover(*world, drivers.camera(), drivers.odometry(), o.out_dir, section, mapped);
             requests += 1;
             failures += mapped ? 0 : 1;
         } else {
             int n = 0;
             int failed = 0;
-            e = flyDescent(*world, o.out_dir, section, n, failed);
+            e = flyDescent(*world, drivers.camera(), drivers.odometry(), o.out_dir, section, n, failed);
             requests += n;
             failures += failed;
+        }
+        if (e.empty()) e = drivers.finish();
+        if (o.link) {
+            section += "Frames and poses came over the HIL link from a separate `vtm-sim serve` process (hal/link "
+                       "LinkCamera, LinkOdometry on a Unix socket); link faults counted: " +
+                       std::to_string(drivers.linkFaults()) + ".\n\n";
         }
         if (!e.empty()) return fail(label + ": " + e);
         sections += section;

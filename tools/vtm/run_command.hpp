@@ -15,6 +15,8 @@ struct RunOptions {
     std::string scenario;         // a .scn file; empty: the built-in descent
     std::string out_dir = "vtm-run";
     int size_px = 0;              // > 0: override the camera's width and height (quick runs)
+    bool link = false;            // frames and poses from a separate vtm-sim serve (hal/link)
+    std::string sim_executable;   // vtm-sim for --link; empty: next to vtm
 };
 
 CLI::App* addRunCommand(CLI::App& app, RunOptions& options);

@@ -10,8 +10,6 @@
 
 #include "hal/event_log.hpp"
 #include "hal/posix/monotonic_clock.hpp"
-#include "hal/sim/sim_camera.hpp"
-#include "hal/sim/sim_odometry.hpp"
 #include "sim/render.hpp"
 #include "vtm/app/wide_baseline_mapper.hpp"
 #include "vtm/ground/disparity_colormap.hpp"
@@ -228,26 +226,17 @@ app::CameraMount cameraMountOf(const sim::ScenarioFrame& f) {
     return m;
 }
 
-std::string flyRover(const ground::SimWorld& world, const std::string& out_dir, std::string& section, bool& mapped) {
+std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Odometry& odometry,
+                     const std::string& out_dir, std::string& section, bool& mapped) {
     mapped = false;
     const auto t0 = std::chrono::steady_clock::now();
-    auto camera = std::make_unique<hal::SimCamera>();
-    auto odometry = std::make_unique<hal::SimOdometry>();
-    hal::SimCamera::Config cc;
-    cc.scenario = &world.scenario;
-    cc.terrain = &world.terrain;
-    cc.frames = world.frames.get();
-    cc.camera_id = sim::kMainCameraId;
-    Status st = camera->init(cc);
-    if (st.isOk()) st = odometry->init({world.frames.get(), nullptr});
-    if (!st.isOk()) return std::string("simulated drivers: ") + st.reason();
     hal::MonotonicClock clock;
     auto events = std::make_unique<hal::EventLog>();
     const app::WideBaselineMapperConfig config = configFor(world.frames->frames[0]);
     std::vector<std::byte> pool(app::WideBaselineMapper::workspaceBytes(config) + 64U);
     Arena arena(pool.data(), pool.size());
     auto mapper = std::make_unique<app::WideBaselineMapper>();
-    st = mapper->init(config, arena, *camera, *odometry, clock, *events);
+    Status st = mapper->init(config, arena, camera, odometry, clock, *events);
     if (!st.isOk()) return std::string("WideBaselineMapper::init: ") + st.reason();
     arena.freeze();
     std::fprintf(stderr, "vtm run: rover pair: mapping (%d x %d, %d disparities)\n", config.frame_width,
@@ -258,8 +247,8 @@ std::string flyRover(const ground::SimWorld& world, const std::string& out_dir, 
     std::ostringstream md;
     char b[1024];
     md << "## Rover wide-baseline pair\n\n"
-       << "The executive `WideBaselineMapper` (fsw/app) on frames 0 and 1 of the mast camera (SimCamera), the poses "
-          "from SimOdometry with its navigation errors. Frames "
+       << "The executive `WideBaselineMapper` (fsw/app) on frames 0 and 1 of the mast camera, the poses from the "
+          "odometry with its navigation errors. Frames "
        << config.frame_width << " x " << config.frame_height << ", " << (config.stereo.d_max - config.stereo.d_min + 1)
        << " disparities, ranges " << config.range_min_m << ".." << config.range_max_m << " m, height map "
        << config.grid.cols << " x " << config.grid.rows << " cells of " << config.grid.cell_m

@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "hal/camera.hpp"
+#include "hal/odometry.hpp"
 #include "vtm/app/camera_mount.hpp"
 #include "vtm/ground/sim_world.hpp"
 
@@ -19,6 +21,9 @@ app::CameraMount cameraMountOf(const sim::ScenarioFrame& frame);
 // `section`. Returns "" or the one-line error (drivers, init, a file that cannot be
 // written); a request that fails in a stage is not an error here: `mapped` is false and
 // the section says which stage and why.
-std::string flyRover(const ground::SimWorld& world, const std::string& out_dir, std::string& section, bool& mapped);
+// Frames and poses come from `camera` and `odometry` (the simulated drivers in process, or
+// the HIL link); `world` is the same scenario in process, for the truth.
+std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Odometry& odometry,
+                     const std::string& out_dir, std::string& section, bool& mapped);
 
 }  // namespace vtm::tools
