@@ -209,11 +209,9 @@ Status WideBaselineMapper::planGeometry() noexcept {
     double baseline = 0.0;
     if (st.isOk()) {
         // Camera frames: X2 = R X1 + t.
-        R_b_from_a_odometry_ = p.R_site_from_cam2.transpose() * p.R_site_from_cam1;
-        t_b_from_a_odometry_ = p.R_site_from_cam2.transpose() * (p.position1_site_m - p.position2_site_m);
-        p.odometry_R_2_from_1 = R_b_from_a_odometry_;
-        p.odometry_t_2_from_1_m = t_b_from_a_odometry_;
-        baseline = math::sqrt(t_b_from_a_odometry_.squaredNorm());
+        p.odometry_R_2_from_1 = p.R_site_from_cam2.transpose() * p.R_site_from_cam1;
+        p.odometry_t_2_from_1_m = p.R_site_from_cam2.transpose() * (p.position1_site_m - p.position2_site_m);
+        baseline = math::sqrt(p.odometry_t_2_from_1_m.squaredNorm());
         if (!(baseline >= config_.min_baseline_m)) {
             st = Status(StatusCode::kDegenerate, "geometry: the rover moved less than min_baseline_m between the frames",
                         static_cast<std::int64_t>(std::floor(1000.0 * baseline + 0.5)));
@@ -246,8 +244,8 @@ Status WideBaselineMapper::refinePose() noexcept {
     features::MatchPrediction prediction;
     prediction.model_a = &model_;
     prediction.model_b = &model_;
-    prediction.R_b_from_a = R_b_from_a_odometry_;
-    prediction.t_b_from_a_m = t_b_from_a_odometry_;
+    prediction.R_b_from_a = p.odometry_R_2_from_1;
+    prediction.t_b_from_a_m = p.odometry_t_2_from_1_m;
     prediction.range_min_m = config_.range_min_m;
     prediction.range_max_m = config_.range_max_m;
     prediction.margin_px = config_.match_margin_px;
@@ -262,8 +260,8 @@ Status WideBaselineMapper::refinePose() noexcept {
         motion::MotionInput input;
         input.model_a = &model_;
         input.model_b = &model_;
-        input.R_b_from_a = R_b_from_a_odometry_;
-        input.t_b_from_a_m = t_b_from_a_odometry_;
+        input.R_b_from_a = p.odometry_R_2_from_1;
+        input.t_b_from_a_m = p.odometry_t_2_from_1_m;
         input.pixels_a = Span<const Vec2>(pixels_a_, n);
         input.pixels_b = Span<const Vec2>(pixels_b_, n);
         motion::MotionConfig mc = config_.motion;
@@ -274,8 +272,8 @@ Status WideBaselineMapper::refinePose() noexcept {
     if (st.isOk()) {
         const motion::MotionResult& m = p.motion;
         constexpr double kDegPerRad = 180.0 / math::kPi;
-        p.refine_rotation_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, R_b_from_a_odometry_);
-        p.refine_direction_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, t_b_from_a_odometry_);
+        p.refine_rotation_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, p.odometry_R_2_from_1);
+        p.refine_direction_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, p.odometry_t_2_from_1_m);
         // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
         p.R_site_from_cam2 = p.R_site_from_cam1 * m.R_b_from_a.transpose();
         p.position2_site_m = p.position1_site_m - p.R_site_from_cam2 * m.t_b_from_a_m;

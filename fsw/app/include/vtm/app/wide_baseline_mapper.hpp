@@ -206,8 +206,6 @@ private:
     ImageView<std::int16_t> disparity_{};
     ImageView<float> sigma_{};
     Span<terrain::TerrainPoint> points_{};
-    Mat3 R_b_from_a_odometry_ = Mat3::Identity();
-    Vec3 t_b_from_a_odometry_ = Vec3::Zero();
     hal::PoseEstimate pose1_{};
     hal::PoseEstimate pose2_{};
     WideBaselineProducts products_{};
