@@ -31,7 +31,7 @@ namespace {
 // 256 x 256 camera over a coarser terrain grid, which they do not depend on.
 #if defined(VTM_TEST_UNDER_EMULATOR)
 constexpr std::int32_t kSize = 256;
-constexpr const char* kTerrainSamplesLog2 = "8";
+constexpr const char* kTerrainSamplesLog2 = "6";
 #else
 constexpr std::int32_t kSize = 512;
 constexpr const char* kTerrainSamplesLog2 = nullptr;  // the scenario's own grid
