@@ -182,4 +182,31 @@ TEST_F(VtmRunCli, BadInputsExitNonZeroWithOneLineNamingTheInput) {
     EXPECT_NE(err.find("bad.scn: "), std::string::npos) << err;
 }
 
+// --target's refusals (its flight is checked on each cross build by run.target_bits,
+// tools/scripts/run_target_check.sh): each one line naming the input, before any world
+// is built.
+TEST_F(VtmRunCli, TargetRefusalsNameTheInputInOneLine) {
+    std::string err;
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run descent --target m68k --out '" + dir_ + "/t'", dir_, err), 1);
+    EXPECT_NE(err.find("--target 'm68k': unknown (one of: aarch64 armhf ppc750 leon3 riscv64)"), std::string::npos)
+        << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run descent --target ppc750 --flight '" + dir_ + "/none' --out '" + dir_ + "/t'",
+                  dir_, err),
+              1);
+    EXPECT_NE(err.find("--flight '" + dir_ + "/none': no ppc750 vtm there (build it: cmake --preset ppc750"),
+              std::string::npos)
+        << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    // A host vtm handed over as the "ppc750" one: the flight vtm checks what it was built for.
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run descent --expect-target ppc750 --out '" + dir_ + "/t'", dir_, err), 1);
+    EXPECT_NE(err.find("--expect-target ppc750: this vtm was built for host"), std::string::npos) << err;
+    // Usage errors: --flight alone, --target with --link.
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run descent --flight x --out '" + dir_ + "/t'", dir_, err), 2);
+    EXPECT_NE(err.find("--flight requires --target"), std::string::npos) << err;
+    EXPECT_EQ(run("'" VTM_EXECUTABLE "' run descent --target ppc750 --link --out '" + dir_ + "/t'", dir_, err), 2);
+    EXPECT_NE(err.find("excludes"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir_ + "/t/report.md"));
+}
+
 }  // namespace

@@ -10,9 +10,11 @@
 #include <sstream>
 #include <vector>
 
+#include "build_info.hpp"
 #include "default_scenarios.hpp"
 #include "run_drivers.hpp"
 #include "run_rover.hpp"
+#include "run_target.hpp"
 #include "exit_codes.hpp"
 #include "hal/event_log.hpp"
 #include "hal/posix/monotonic_clock.hpp"
@@ -426,11 +428,26 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
     cmd->add_option("--size", o.size_px, "override the camera's width and height, px (64..2048; quick runs)");
     cmd->add_flag("--link", o.link,
                   "fly against a separate `vtm-sim serve` process over a Unix socket (hal/link) instead of in process");
-    cmd->add_option("--sim", o.sim_executable, "the vtm-sim executable for --link (default: the one next to vtm)");
+    cmd->add_option("--sim", o.sim_executable,
+                    "the vtm-sim executable for --link and --target (default: the one next to vtm)");
+    cmd->add_option("--target", o.target,
+                    std::string("fly with the vtm cross-compiled for this target under qemu-user, against this host's "
+                                "vtm-sim over the link: ") + runTargetNames())
+        ->excludes("--link");
+    cmd->add_option("--flight", o.flight_executable,
+                    "the cross-compiled vtm for --target (default: build/TARGET/tools/vtm/vtm beside this build)")
+        ->needs("--target");
+    cmd->add_option("--expect-target", o.expect_target,
+                    "refuse to run unless this vtm was built for this target (--target passes it on)");
     return cmd;
 }
 
 int runMission(const RunOptions& o) {
+    if (!o.target.empty()) return runOnTarget(o);
+    if (!o.expect_target.empty() && o.expect_target != kTarget) {
+        return fail("--expect-target " + o.expect_target + ": this vtm was built for " + kTarget);
+    }
+    const bool cross = std::string(kTarget) != "host";
     const auto t0 = std::chrono::steady_clock::now();
     std::error_code ec;
     fs::create_directories(o.out_dir, ec);
@@ -490,9 +507,14 @@ int runMission(const RunOptions& o) {
     }
     std::ostringstream md;
     md << "# VTM run: " << labels << "\n\n"
-       << "Flown in process: simulated worlds and frames (sim/), SimCamera and SimOdometry (hal/sim, the odometry "
-          "with its navigation errors), the flight executives (fsw/app). Every figure below was measured in this run "
-          "against the simulator's truth. " << (requests - failures) << " of " << requests << " requests mapped; total "
+       << (cross ? std::string("Flown by the vtm built for ") + kTarget + " (" + kCompiler + " `" + kCxxFlags +
+                       "`, flight policy `" + kFlightFlags + "`), run under qemu-user on the host. "
+                 : std::string())
+       << "Simulated worlds and frames (sim/); "
+       << (o.link ? "frames and poses from a separate `vtm-sim serve` process over the HIL link (hal/link), "
+                  : "frames and poses in process from SimCamera and SimOdometry (hal/sim), ")
+       << "the odometry with its navigation errors; the flight executives (fsw/app). Every figure below was measured "
+          "in this run against the simulator's truth. " << (requests - failures) << " of " << requests << " requests mapped; total "
        << secondsSince(t0) << " s.\n\n"
        << sections;
     writeReport(o.out_dir, md.str());

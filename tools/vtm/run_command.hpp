@@ -1,9 +1,11 @@
-// `vtm run [SCENARIO] [--out DIR] [--size N]`: the main job. Flies a simulated mission in
-// process: the scenario's world and frames (sim/), the simulated drivers (hal/sim) and
-// the flight executive (fsw/app), then writes the products and a report (Markdown and
-// HTML with the pictures) whose accuracy figures come from this run against the
-// simulator's truth. With no SCENARIO the built-in descent (sim/scenarios/descent.scn,
-// compiled in) is flown. docs/run.md.
+// `vtm run [SCENARIO] [--out DIR] [--size N] [--link | --target T]`: the main job. Flies a
+// simulated mission: the scenario's world and frames (sim/), the simulated drivers
+// (hal/sim in process, or a separate vtm-sim over hal/link with --link) and the flight
+// executives (fsw/app), then writes the products and a report (Markdown and HTML with
+// the pictures) whose accuracy figures come from this run against the simulator's truth.
+// With no SCENARIO the built-in rover pair and then the built-in descent are flown
+// (sim/scenarios/*.scn, compiled in). --target T hands the run to the vtm cross-compiled
+// for T under qemu (run_target.hpp). docs/run.md.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -17,6 +19,9 @@ struct RunOptions {
     int size_px = 0;              // > 0: override the camera's width and height (quick runs)
     bool link = false;            // frames and poses from a separate vtm-sim serve (hal/link)
     std::string sim_executable;   // vtm-sim for --link; empty: next to vtm
+    std::string target;           // --target: fly with the vtm cross-compiled for it, under qemu
+    std::string flight_executable;  // that vtm; empty: build/<target>/tools/vtm/vtm
+    std::string expect_target;    // set by --target for the cross vtm: refuse to run if built for another
 };
 
 CLI::App* addRunCommand(CLI::App& app, RunOptions& options);
