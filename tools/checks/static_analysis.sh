@@ -61,14 +61,16 @@ if not entries:
 # Flags of a generated unit: those of a flight TU plus every flight include directory.
 import re
 incs = []
+search = []  # the same directories, absolute (a relative -I is relative to its entry's directory)
 for e in entries:
     for i, a in enumerate(e["arguments"]):
         d = e["arguments"][i + 1] if a == "-I" else a[2:] if a.startswith("-I") else None
         if d and d not in incs:
             incs.append(d)
+            search.append(os.path.join(e["directory"], d))
 inc_re = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.M)
 def resolve(name, from_file):
-    for d in [os.path.dirname(from_file)] + [os.path.join(e["directory"], d) if not os.path.isabs(d) else d for d in incs]:
+    for d in [os.path.dirname(from_file)] + search:
         c = os.path.realpath(os.path.join(d, name))
         if os.path.isfile(c):
             return c

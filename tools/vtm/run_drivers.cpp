@@ -115,12 +115,18 @@ unsigned long long RunDrivers::linkFaults() const {
     return session_ ? static_cast<unsigned long long>(session_->counters().totalFaults()) : 0ULL;
 }
 
-std::string defaultSimExecutable() {
+std::string buildDirectory() {
     char self[PATH_MAX];
     const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
     if (n <= 0) return "";
     self[n] = '\0';
-    const std::filesystem::path sim = std::filesystem::path(self).parent_path().parent_path() / "sim" / "vtm-sim";
+    return std::filesystem::path(self).parent_path().parent_path().parent_path().string();  // <dir>/tools/vtm/vtm
+}
+
+std::string defaultSimExecutable() {
+    const std::string build = buildDirectory();
+    if (build.empty()) return "";
+    const std::filesystem::path sim = std::filesystem::path(build) / "tools" / "sim" / "vtm-sim";
     return std::filesystem::exists(sim) ? sim.string() : "";
 }
 

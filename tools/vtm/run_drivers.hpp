@@ -56,6 +56,9 @@ private:
     std::string socket_path_;
 };
 
+// The build directory this vtm belongs to (build/<preset> of build/<preset>/tools/vtm/vtm),
+// or "" if /proc/self/exe cannot be read.
+std::string buildDirectory();
 // The vtm-sim next to this vtm (build/<preset>/tools/sim/vtm-sim), or "" if not found.
 std::string defaultSimExecutable();
 

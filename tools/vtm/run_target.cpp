@@ -1,6 +1,5 @@
 #include "run_target.hpp"
 
-#include <limits.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -41,15 +40,12 @@ int fail(const std::string& message) {
 
 // build/<target>/tools/vtm/vtm beside this build (build/<preset>/tools/vtm/vtm), or "".
 std::string defaultFlightExecutable(const std::string& target) {
-    char self[PATH_MAX];
-    const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
-    if (n <= 0) return "";
-    self[n] = '\0';
-    const fs::path build_root = fs::path(self).parent_path().parent_path().parent_path().parent_path();
-    return (build_root / target / "tools" / "vtm" / "vtm").string();
+    const std::string build = buildDirectory();
+    if (build.empty()) return "";
+    return (fs::path(build).parent_path() / target / "tools" / "vtm" / "vtm").string();
 }
 
-// The emulator's directory on PATH, or "" if it is not there.
+// The program's path on PATH, or "" if it is not there.
 std::string onPath(const std::string& program) {
     const char* path = std::getenv("PATH");
     std::string dirs = path != nullptr ? path : "/usr/bin:/bin";
@@ -90,7 +86,11 @@ int spawnAndWait(const std::vector<std::string>& args, std::string& error) {
 
 }  // namespace
 
-const char* runTargetNames() { return "aarch64 armhf ppc750 leon3 riscv64"; }
+std::string runTargetNames() {
+    std::string names;
+    for (const TargetInfo& t : kTargets) names += (names.empty() ? "" : " ") + std::string(t.name);
+    return names;
+}
 
 int runOnTarget(const RunOptions& o) {
     const TargetInfo* target = nullptr;
