@@ -2,6 +2,7 @@
 // positions, grid spreading, border, the max_features cap, determinism, no heap, errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -210,6 +211,64 @@ TEST(ForstnerDetector, CapKeepsTheStrongestAndIsDeterministic) {
     ASSERT_TRUE(capped.detector.detect(img.view(), fc2).isOk());
     ASSERT_EQ(fc2.count, fc.count);
     EXPECT_EQ(std::memcmp(fc.items, fc2.items, sizeof(Feature) * static_cast<std::size_t>(fc.count)), 0);
+}
+
+// A mask restricts features to the part of A that B sees (predictVisibility). That part
+// may be small and faint (a wide baseline shares only A's far field) while the rest of the
+// image is strong: the strength threshold is relative to the best w inside the mask and the
+// grid spans the mask's bounding box, so the masked part gets a full grid of features.
+TEST(ForstnerDetector, MaskGetsAFullGridAndAThresholdOfItsOwn) {
+    constexpr std::int32_t kW = 256, kH = 256;
+    Image img = texture(kW, kH, 5U);
+    // Faint texture (contrast / 12, w / 144: below min_strength_ratio = 0.02 of the strong
+    // part) in the box the mask opens: x, y in [160, 224).
+    constexpr std::int32_t kX0 = 160, kY0 = 160, kSide = 64;
+    for (std::int32_t y = kY0; y < kY0 + kSide; ++y) {
+        for (std::int32_t x = kX0; x < kX0 + kSide; ++x) {
+            img.at(x, y) = static_cast<std::uint8_t>(128 + (static_cast<int>(img.at(x, y)) - 128) / 12);
+        }
+    }
+    // The mask opens the faint box less a margin the structure tensor's window (and the
+    // gradient) does not cross: w there sees the faint texture only.
+    constexpr std::int32_t kInset = 6;
+    Image mask(kW, kH);
+    for (std::int32_t y = kY0 + kInset; y < kY0 + kSide - kInset; ++y) {
+        for (std::int32_t x = kX0 + kInset; x < kX0 + kSide - kInset; ++x) {
+            mask.at(x, y) = 1U;
+        }
+    }
+    DetectorConfig c;
+    c.max_width = kW;
+    c.max_height = kH;
+    c.grid_cols = 4;  // a 64 px cell of the image: the mask's box is one of them
+    c.grid_rows = 4;
+    c.per_cell = 2;
+    c.min_strength_ratio = 0.02f;
+    Detector d(c);
+    FeatureSet unmasked;
+    ASSERT_TRUE(d.detector.detect(img.view(), unmasked).isOk());
+    int faint = 0;
+    for (std::int32_t k = 0; k < unmasked.count; ++k) {
+        const Vec2& p = unmasked.items[k].pixel;
+        faint += (p.x() >= kX0 + 4 && p.x() < kX0 + kSide - 4 && p.y() >= kY0 + 4 && p.y() < kY0 + kSide - 4) ? 1 : 0;
+    }
+    EXPECT_EQ(faint, 0) << "the faint box is below the whole image's threshold";
+
+    FeatureSet fs;
+    ASSERT_TRUE(d.detector.detect(img.view(), fs, nullptr, mask.view()).isOk());
+    constexpr std::int32_t kM0 = kY0 + kInset, kMSide = kSide - 2 * kInset;  // the mask's box (kX0 == kY0)
+    std::vector<int> per_sub(16, 0);  // the mask's box in 4 x 4 sub-boxes
+    for (std::int32_t k = 0; k < fs.count; ++k) {
+        const Vec2& p = fs.items[k].pixel;
+        ASSERT_TRUE(p.x() > kM0 - 3 && p.x() < kM0 + kMSide + 2 && p.y() > kM0 - 3 && p.y() < kM0 + kMSide + 2)
+            << "feature at " << p.x() << ", " << p.y() << " outside the mask";
+        const auto sx = std::clamp(static_cast<int>(std::floor((p.x() - kM0 + 0.5) * 4.0 / kMSide)), 0, 3);
+        const auto sy = std::clamp(static_cast<int>(std::floor((p.y() - kM0 + 0.5) * 4.0 / kMSide)), 0, 3);
+        ++per_sub[static_cast<std::size_t>(sy * 4 + sx)];
+    }
+    // One image cell would hold per_cell = 2 features; the mask's own grid holds up to 32.
+    EXPECT_GE(fs.count, 16);
+    EXPECT_GE(std::count_if(per_sub.begin(), per_sub.end(), [](int n) { return n > 0; }), 12);
 }
 
 TEST(ForstnerDetector, FlatImageHasNoFeatures) {

@@ -196,18 +196,40 @@ std::int32_t ForstnerDetector::selectCandidates(std::int32_t width, std::int32_t
                                                 const ImageView<const std::uint8_t>& mask) noexcept {
     const bool masked = mask.data() != nullptr;
     const std::int32_t b = config_.border_px;
+    // The part of the image features may come from: inside the border and, with a mask,
+    // where it is nonzero. The strength threshold is relative to the best w there and the
+    // spreading grid spans that part's bounding box, so a small shared view (a wide
+    // baseline sees A's far field only) still gets grid_cols x grid_rows cells of features
+    // and is not starved by a strong near field it cannot match.
     float best = 0.f;
+    std::int32_t x0 = width, x1 = -1, y0 = height, y1 = -1;
     for (std::int32_t y = b; y < height - b; ++y) {
+        const std::uint8_t* m = masked ? mask.row(y) : nullptr;
         for (std::int32_t x = b; x < width - b; ++x) {
+            if (m != nullptr && m[x] == 0U) {
+                continue;
+            }
             best = std::max(best, w_[idx(x, y, width)]);
+            x0 = std::min(x0, x);
+            x1 = std::max(x1, x);
+            y0 = std::min(y0, y);
+            y1 = std::max(y1, y);
         }
     }
     best_w_ = best;
-    const float threshold = config_.min_strength_ratio * best;
     std::fill(cellCount_.data(), cellCount_.data() + cellCount_.size(), 0);
+    if (x1 < x0 || y1 < y0) {
+        return 0;  // nothing allowed: an empty mask
+    }
+    // Without a mask the grid is the whole image's (cells at the border are partly empty).
+    const std::int32_t gx0 = masked ? x0 : 0;
+    const std::int32_t gy0 = masked ? y0 : 0;
+    const std::int64_t span_x = masked ? x1 - x0 + 1 : width;
+    const std::int64_t span_y = masked ? y1 - y0 + 1 : height;
+    const float threshold = config_.min_strength_ratio * best;
     std::int32_t candidates = 0;
-    for (std::int32_t y = b; y < height - b; ++y) {
-        for (std::int32_t x = b; x < width - b; ++x) {
+    for (std::int32_t y = y0; y <= y1; ++y) {
+        for (std::int32_t x = x0; x <= x1; ++x) {
             const float w = w_[idx(x, y, width)];
             if (!(w > 0.f) || w < threshold || q_[idx(x, y, width)] < config_.min_roundness ||
                 (masked && mask.row(y)[x] == 0U)) {
@@ -222,8 +244,8 @@ std::int32_t ForstnerDetector::selectCandidates(std::int32_t width, std::int32_t
                 continue;
             }
             ++candidates;
-            const auto cx = static_cast<std::int32_t>(static_cast<std::int64_t>(x) * config_.grid_cols / width);
-            const auto cy = static_cast<std::int32_t>(static_cast<std::int64_t>(y) * config_.grid_rows / height);
+            const auto cx = static_cast<std::int32_t>(static_cast<std::int64_t>(x - gx0) * config_.grid_cols / span_x);
+            const auto cy = static_cast<std::int32_t>(static_cast<std::int64_t>(y - gy0) * config_.grid_rows / span_y);
             const std::size_t cell = static_cast<std::size_t>(cy) * static_cast<std::size_t>(config_.grid_cols) + static_cast<std::size_t>(cx);
             Candidate* slots = &cells_[cell * static_cast<std::size_t>(config_.per_cell)];
             std::int32_t& n = cellCount_[cell];

@@ -5,8 +5,9 @@
 // N = sum over a window x window box of [gx^2 gx*gy; gx*gy gy^2] (integer box sums, exact),
 // precision w = det N / tr N and roundness q = 4 det N / (tr N)^2 in [0, 1]. Features are
 // the 3x3 local maxima of w with q >= min_roundness and w >= min_strength_ratio times the
-// image's best w, at least border_px from the image edge; they are spread over a grid
-// (the best per_cell by w in each cell) and then capped at max_features by w.
+// best w of the allowed part (inside border_px; with a mask, where it is nonzero); they are
+// spread over a grid (the best per_cell by w in each cell) that spans the image, or with a
+// mask the mask's bounding box, and then capped at max_features by w.
 // Subpixel location: DetectorConfig::subpixel.
 //
 // Output order is deterministic: by cell (row-major), then by w (descending), ties by
@@ -92,7 +93,9 @@ public:
     // `out` is fully rewritten on success (count = 0 on failure).
     // mask (optional, the image's size, else kSizeMismatch): features only where it is
     // nonzero, e.g. the part of image A that image B can see (predictVisibility in
-    // visibility.hpp); the grid then spreads them over that part only.
+    // visibility.hpp); the grid then spans that part's bounding box and the strength
+    // threshold is relative to the best w inside it, so a small or faint visible part
+    // still gets grid_cols x grid_rows cells of features.
     [[nodiscard]] Status detect(const ImageView<const std::uint8_t>& image, FeatureSet& out,
                                 DetectorStats* stats = nullptr,
                                 const ImageView<const std::uint8_t>& mask = {}) noexcept;
