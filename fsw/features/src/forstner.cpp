@@ -21,6 +21,36 @@ std::size_t idx(std::int32_t x, std::int32_t y, std::int32_t width) noexcept {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
 }
 
+// The part of the image features may come from: inside the border and, with a mask,
+// where it is nonzero; its bounding box and the best w in it. The strength threshold is
+// relative to that w and the spreading grid spans that box, so a small shared view (a wide
+// baseline sees A's far field only) still gets grid_cols x grid_rows cells of features and
+// is not starved by a strong near field it cannot match. Empty: x1 < x0.
+struct AllowedPart {
+    float best_w = 0.f;
+    std::int32_t x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+};
+AllowedPart allowedPart(const Span<float>& w, std::int32_t width, std::int32_t height, std::int32_t border,
+                        const ImageView<const std::uint8_t>& mask) noexcept {
+    AllowedPart p;
+    p.x0 = width;
+    p.y0 = height;
+    for (std::int32_t y = border; y < height - border; ++y) {
+        const std::uint8_t* m = mask.data() != nullptr ? mask.row(y) : nullptr;
+        for (std::int32_t x = border; x < width - border; ++x) {
+            if (m != nullptr && m[x] == 0U) {
+                continue;
+            }
+            p.best_w = std::max(p.best_w, w[idx(x, y, width)]);
+            p.x0 = std::min(p.x0, x);
+            p.x1 = std::max(p.x1, x);
+            p.y0 = std::min(p.y0, y);
+            p.y1 = std::max(p.y1, y);
+        }
+    }
+    return p;
+}
+
 // Gradient products of pixel (x, y) (1 <= x < W-1, 1 <= y < H-1): Sobel derivatives (8x the
 // gradient), whose direction is closer to the true edge normal than a plain central
 // difference's, which matters for the point estimate at rotated edges.
@@ -195,41 +225,21 @@ void ForstnerDetector::computeStrength(const ImageView<const std::uint8_t>& imag
 std::int32_t ForstnerDetector::selectCandidates(std::int32_t width, std::int32_t height,
                                                 const ImageView<const std::uint8_t>& mask) noexcept {
     const bool masked = mask.data() != nullptr;
-    const std::int32_t b = config_.border_px;
-    // The part of the image features may come from: inside the border and, with a mask,
-    // where it is nonzero. The strength threshold is relative to the best w there and the
-    // spreading grid spans that part's bounding box, so a small shared view (a wide
-    // baseline sees A's far field only) still gets grid_cols x grid_rows cells of features
-    // and is not starved by a strong near field it cannot match.
-    float best = 0.f;
-    std::int32_t x0 = width, x1 = -1, y0 = height, y1 = -1;
-    for (std::int32_t y = b; y < height - b; ++y) {
-        const std::uint8_t* m = masked ? mask.row(y) : nullptr;
-        for (std::int32_t x = b; x < width - b; ++x) {
-            if (m != nullptr && m[x] == 0U) {
-                continue;
-            }
-            best = std::max(best, w_[idx(x, y, width)]);
-            x0 = std::min(x0, x);
-            x1 = std::max(x1, x);
-            y0 = std::min(y0, y);
-            y1 = std::max(y1, y);
-        }
-    }
-    best_w_ = best;
+    const AllowedPart part = allowedPart(w_, width, height, config_.border_px, mask);
+    best_w_ = part.best_w;
     std::fill(cellCount_.data(), cellCount_.data() + cellCount_.size(), 0);
-    if (x1 < x0 || y1 < y0) {
+    if (part.x1 < part.x0 || part.y1 < part.y0) {
         return 0;  // nothing allowed: an empty mask
     }
     // Without a mask the grid is the whole image's (cells at the border are partly empty).
-    const std::int32_t gx0 = masked ? x0 : 0;
-    const std::int32_t gy0 = masked ? y0 : 0;
-    const std::int64_t span_x = masked ? x1 - x0 + 1 : width;
-    const std::int64_t span_y = masked ? y1 - y0 + 1 : height;
-    const float threshold = config_.min_strength_ratio * best;
+    const std::int32_t gx0 = masked ? part.x0 : 0;
+    const std::int32_t gy0 = masked ? part.y0 : 0;
+    const std::int64_t span_x = masked ? part.x1 - part.x0 + 1 : width;
+    const std::int64_t span_y = masked ? part.y1 - part.y0 + 1 : height;
+    const float threshold = config_.min_strength_ratio * part.best_w;
     std::int32_t candidates = 0;
-    for (std::int32_t y = y0; y <= y1; ++y) {
-        for (std::int32_t x = x0; x <= x1; ++x) {
+    for (std::int32_t y = part.y0; y <= part.y1; ++y) {
+        for (std::int32_t x = part.x0; x <= part.x1; ++x) {
             const float w = w_[idx(x, y, width)];
             if (!(w > 0.f) || w < threshold || q_[idx(x, y, width)] < config_.min_roundness ||
                 (masked && mask.row(y)[x] == 0U)) {
