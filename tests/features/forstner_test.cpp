@@ -255,7 +255,11 @@ TEST(ForstnerDetector, MaskGetsAFullGridAndAThresholdOfItsOwn) {
     EXPECT_EQ(faint, 0) << "the faint box is below the whole image's threshold";
 
     FeatureSet fs;
-    ASSERT_TRUE(d.detector.detect(img.view(), fs, nullptr, mask.view()).isOk());
+    {
+        vtm::test::NoHeapScope scope;  // the masked path allocates nothing either
+        ASSERT_TRUE(d.detector.detect(img.view(), fs, nullptr, mask.view()).isOk());
+        EXPECT_EQ(scope.heapCalls(), 0U);
+    }
     constexpr std::int32_t kM0 = kY0 + kInset, kMSide = kSide - 2 * kInset;  // the mask's box (kX0 == kY0)
     std::vector<int> per_sub(16, 0);  // the mask's box in 4 x 4 sub-boxes
     for (std::int32_t k = 0; k < fs.count; ++k) {
