@@ -96,6 +96,7 @@ WideBaselineMapperConfig configFor(std::int32_t size) {
     c.detector.max_height = c.matcher.max_height = c.rectify.max_height = c.stereo.max_height = size;
     c.mount = mountOf(world().frames.frames[0]);
     c.match_margin_px = 75.0 * static_cast<double>(size) / 1024.0;
+    c.speckle_max_region_px = 100 * size / 1024 * size / 1024;  // the same share of the image
     return c;
 }
 

@@ -37,6 +37,7 @@ std::string reasonName(std::int32_t value) {
         case stereo::Reason::kLeftRightMismatch: return "left-right mismatch";
         case stereo::Reason::kOutOfRange: return "out of range";
         case stereo::Reason::kLowLikelihood: return "low likelihood";
+        case stereo::Reason::kSpeckle: return "speckle";
         default: return "reason " + std::to_string(value);
     }
 }

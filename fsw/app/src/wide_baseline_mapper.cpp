@@ -50,6 +50,16 @@ terrain::TriangulationLimits limitsOf(const WideBaselineMapperConfig& c) noexcep
     return l;
 }
 
+// The speckle filter's configuration: the stereo's capacity, the mapper's two settings.
+stereo::SpeckleConfig speckleConfigOf(const WideBaselineMapperConfig& c) noexcept {
+    stereo::SpeckleConfig s;
+    s.max_width = c.stereo.max_width;
+    s.max_height = c.stereo.max_height;
+    s.max_region_px = c.speckle_max_region_px;
+    s.max_diff_px16 = c.speckle_max_diff_px16;
+    return s;
+}
+
 }  // namespace
 
 stereo::Config wideBaselineStereoConfig() noexcept {
@@ -101,6 +111,12 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     if (!detail::inRange(min_baseline_m, 0.01, 100.0)) {
         return invalid("min_baseline_m: must be 0.01..100");
     }
+    if (speckle_max_region_px < 0 || speckle_max_region_px > 65536) {
+        return invalid("speckle_max_region_px: must be 0..65536", speckle_max_region_px);
+    }
+    if (speckle_max_diff_px16 < 0 || speckle_max_diff_px16 > 32767) {
+        return invalid("speckle_max_diff_px16: must be 0..32767", speckle_max_diff_px16);
+    }
     return Status::ok();
 }
 
@@ -112,7 +128,9 @@ std::size_t WideBaselineMapper::workspaceBytes(const WideBaselineMapperConfig& c
     return features::ForstnerDetector::workspaceBytes(config.detector)  // each module's own plan
            + features::TemplateMatcher::workspaceBytes(config.matcher) +
            rectify::Rectifier::workspaceBytes(rectifyConfigOf(config)) +
-           stereo::MlStereo::workspaceBytes(config.stereo) + terrain::HeightMap::workspaceBytes(config.grid) +
+           stereo::MlStereo::workspaceBytes(config.stereo) +
+           stereo::SpeckleFilter::workspaceBytes(speckleConfigOf(config)) +
+           terrain::HeightMap::workspaceBytes(config.grid) +
            Arena::arrayBytes<std::uint16_t>(s.frame)              // staging frame of a > 8-bit camera
            + 3U * Arena::arrayBytes<std::uint8_t>(s.frame)        // the two frames (8-bit), visibility mask
            + 3U * Arena::arrayBytes<std::uint8_t>(s.rectified)    // rectified pair, shifted image 2
@@ -141,6 +159,7 @@ Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& a
     VTM_RETURN_IF_ERROR(matcher_.init(config.matcher, arena));
     VTM_RETURN_IF_ERROR(rectifier_.init(rectifyConfigOf(config), arena));
     VTM_RETURN_IF_ERROR(stereo_.init(config.stereo, arena));
+    VTM_RETURN_IF_ERROR(speckle_.init(speckleConfigOf(config), arena));
     VTM_RETURN_IF_ERROR(map_.init(config.grid, arena));
     const std::int32_t w = config.frame_width;
     const std::int32_t h = config.frame_height;
@@ -391,6 +410,9 @@ Status WideBaselineMapper::runStereo() noexcept {
         }
         const stereo::DisparityOutput out{disparity_, sigma_, {}};
         st = stereo_.compute(rect1_, shifted2_, out, &p.stereo);
+        if (st.isOk()) {
+            st = speckle_.apply(out, &p.stereo, &p.speckles);
+        }
     }
     if (st.isOk()) {
         const auto offset = static_cast<std::int32_t>(p.disparity_min * stereo::kDisparityScale);

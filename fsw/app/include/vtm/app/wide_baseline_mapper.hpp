@@ -50,6 +50,7 @@
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/stereo/speckle_filter.hpp"
 #include "vtm/terrain/height_map.hpp"
 #include "vtm/terrain/triangulation.hpp"
 
@@ -86,6 +87,13 @@ struct WideBaselineMapperConfig {
     // than this plane, which bounds the ray's disparity; a disparity found in the window
     // when that bound lies beyond it is a wrong match and is dropped (stereo stage).
     double relief_below_m = 3.0;
+    // Speckle filter after the stereo (stereo::SpeckleFilter over the rectified size):
+    // islands of at most speckle_max_region_px disparities, 4-connected with neighbours
+    // within speckle_max_diff_px16 (1/16 px), are dropped. Isolated wrong disparities on
+    // far rays put points high over the ground, and a height-map cell keeps its highest
+    // point (docs/app.md). 0..65536 (0: off) and 0..32767.
+    std::int32_t speckle_max_region_px = 100;
+    std::int32_t speckle_max_diff_px16 = stereo::kDisparityScale;
     // The site grid of the height map (origin, cell, size; terrain::GridConfig). Every
     // request maps into the same grid, so successive maps merge (terrain::HeightMap::merge).
     terrain::GridConfig grid = defaultGrid();
@@ -133,6 +141,7 @@ struct WideBaselineProducts {
     std::int32_t disparity_max = 0;
     std::int32_t features_in_window = 0;  // refined inliers whose disparity fell inside it
     stereo::StereoStats stereo{};          // of the window's search
+    std::int32_t speckles = 0;             // disparities dropped by the speckle filter
     std::int32_t outside_window = 0;       // disparities dropped by the ground bound (relief_below_m)
     terrain::TriangulationStats triangulation{};
     terrain::HeightMapStats map{};
@@ -189,6 +198,7 @@ private:
     motion::MotionRefiner refiner_{};
     rectify::Rectifier rectifier_{};
     stereo::MlStereo stereo_{};
+    stereo::SpeckleFilter speckle_{};
     terrain::HeightMap map_{};
     features::FeatureSet features_{};
     features::MatchSet matches_{};

@@ -45,8 +45,9 @@ enum class Reason : std::uint8_t {
     kLeftRightMismatch = 4,  // right-to-left search disagrees by more than lr_max_diff_px
     kOutOfRange = 5,         // best disparity on the boundary of [d_min, d_max]
     kLowLikelihood = 6,      // even the best window is mostly outliers
+    kSpeckle = 7,            // an island too small to trust (SpeckleFilter, speckle_filter.hpp)
 };
-constexpr std::int32_t kReasonCount = 7;
+constexpr std::int32_t kReasonCount = 8;
 
 // Intensity preprocessing before matching (both images).
 enum class Prefilter : std::uint8_t {
