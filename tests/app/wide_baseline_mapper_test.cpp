@@ -397,6 +397,12 @@ TEST_F(WideBaselineMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     c.relief_below_m = -1.0;
     named(c, "relief_below_m");
     c = good;
+    c.speckle_max_region_px = -1;
+    named(c, "speckle_max_region_px");
+    c = good;
+    c.speckle_max_diff_px16 = 40000;
+    named(c, "speckle_max_diff_px16");
+    c = good;
     c.min_baseline_m = std::nan("");
     named(c, "min_baseline_m");
 
