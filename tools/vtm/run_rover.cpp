@@ -276,7 +276,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| translation direction error: odometry -> refined | %.3f -> %.3f deg |\n"
                   "| baseline length error (odometry, kept) | %+.2f %% |\n"
                   "| disparity window | %d..%d px (%d of the inliers inside) |\n"
-                  "| disparities found / dropped by the ground bound | %d / %d |\n"
+                  "| disparities found / dropped as speckles / dropped by the ground bound | %d / %d / %d |\n"
                   "| points triangulated | %d |\n"
                   "| image-1 pixels with a range | %lld (%.1f %%), true range median %.1f m |\n"
                   "| range error: median / within 5 %% | %.2f %% / %.1f %% |\n"
@@ -284,7 +284,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| time of the request | %.2f s |\n\n",
                   p->matching.matched, p->motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
                   m.dir_after_deg, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
-                  p->features_in_window, p->stereo.valid_pixels, p->outside_window, p->triangulation.points,
+                  p->features_in_window, p->stereo.valid_pixels + p->speckles, p->speckles, p->outside_window, p->triangulation.points,
                   m.range_pixels, 100.0 * static_cast<double>(m.range_pixels) / (range.width * range.height),
                   m.range_true_median_m, 100.0 * m.range_median, 100.0 * m.range_within5, m.cells, m.dz_median_m,
                   m.dz_mean_m, map_s);
