@@ -96,7 +96,7 @@ WideBaselineMapperConfig configFor(std::int32_t size) {
     c.detector.max_height = c.matcher.max_height = c.rectify.max_height = c.stereo.max_height = size;
     c.mount = mountOf(world().frames.frames[0]);
     c.match_margin_px = 75.0 * static_cast<double>(size) / 1024.0;
-    c.speckle_max_region_px = 100 * size / 1024 * size / 1024;  // the same share of the image
+    c.speckle.max_region_px = 100 * size / 1024 * size / 1024;  // the same share of the image
     return c;
 }
 
@@ -396,11 +396,11 @@ TEST_F(WideBaselineMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     c.relief_below_m = -1.0;
     named(c, "relief_below_m");
     c = good;
-    c.speckle_max_region_px = -1;
-    named(c, "speckle_max_region_px");
+    c.speckle.max_region_px = -1;
+    named(c, "SpeckleConfig.max_region_px");
     c = good;
-    c.speckle_max_diff_px16 = 40000;
-    named(c, "speckle_max_diff_px16");
+    c.speckle.max_diff_px16 = 40000;
+    named(c, "SpeckleConfig.max_diff_px16");
     c = good;
     c.min_baseline_m = std::nan("");
     named(c, "min_baseline_m");

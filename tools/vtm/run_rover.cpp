@@ -37,7 +37,7 @@ app::WideBaselineMapperConfig configFor(const sim::ScenarioFrame& f) {
     c.frame_height = c.detector.max_height = c.matcher.max_height = c.rectify.max_height = c.stereo.max_height = h;
     c.match_margin_px = 75.0 * static_cast<double>(std::max(w, h)) / 1024.0;  // the heading error in pixels
     // Speckles: the default's share of a 1024 x 1024 image (100 px).
-    c.speckle_max_region_px = static_cast<std::int32_t>(100LL * w * h / (1024LL * 1024LL));
+    c.speckle.max_region_px = static_cast<std::int32_t>(100LL * w * h / (1024LL * 1024LL));
     c.mount = cameraMountOf(f);
     return c;
 }

@@ -50,13 +50,10 @@ terrain::TriangulationLimits limitsOf(const WideBaselineMapperConfig& c) noexcep
     return l;
 }
 
-// The speckle filter's configuration: the stereo's capacity, the mapper's two settings.
 stereo::SpeckleConfig speckleConfigOf(const WideBaselineMapperConfig& c) noexcept {
-    stereo::SpeckleConfig s;
+    stereo::SpeckleConfig s = c.speckle;
     s.max_width = c.stereo.max_width;
     s.max_height = c.stereo.max_height;
-    s.max_region_px = c.speckle_max_region_px;
-    s.max_diff_px16 = c.speckle_max_diff_px16;
     return s;
 }
 
@@ -111,12 +108,7 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     if (!detail::inRange(min_baseline_m, 0.01, 100.0)) {
         return invalid("min_baseline_m: must be 0.01..100");
     }
-    if (speckle_max_region_px < 0 || speckle_max_region_px > 65536) {
-        return invalid("speckle_max_region_px: must be 0..65536", speckle_max_region_px);
-    }
-    if (speckle_max_diff_px16 < 0 || speckle_max_diff_px16 > 32767) {
-        return invalid("speckle_max_diff_px16: must be 0..32767", speckle_max_diff_px16);
-    }
+    VTM_RETURN_IF_ERROR(speckleConfigOf(*this).validate());
     return Status::ok();
 }
 

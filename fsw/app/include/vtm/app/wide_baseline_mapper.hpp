@@ -87,13 +87,11 @@ struct WideBaselineMapperConfig {
     // than this plane, which bounds the ray's disparity; a disparity found in the window
     // when that bound lies beyond it is a wrong match and is dropped (stereo stage).
     double relief_below_m = 3.0;
-    // Speckle filter after the stereo (stereo::SpeckleFilter over the rectified size):
-    // islands of at most speckle_max_region_px disparities, 4-connected with neighbours
-    // within speckle_max_diff_px16 (1/16 px), are dropped. Isolated wrong disparities on
-    // far rays put points high over the ground, and a height-map cell keeps its highest
-    // point (docs/app.md). 0..65536 (0: off) and 0..32767.
-    std::int32_t speckle_max_region_px = 100;
-    std::int32_t speckle_max_diff_px16 = stereo::kDisparityScale;
+    // Speckle filter after the stereo (stereo::SpeckleFilter; its capacity is replaced by
+    // stereo's): islands of at most speckle.max_region_px disparities (100 at 1024²; scale
+    // with the image area) are dropped. Isolated wrong disparities on far rays put points
+    // high over the ground, and a height-map cell keeps its highest point (docs/app.md).
+    stereo::SpeckleConfig speckle{};
     // The site grid of the height map (origin, cell, size; terrain::GridConfig). Every
     // request maps into the same grid, so successive maps merge (terrain::HeightMap::merge).
     terrain::GridConfig grid = defaultGrid();
