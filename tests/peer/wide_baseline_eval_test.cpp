@@ -33,8 +33,18 @@ const double kBaselines_m[] = {1.0, 2.0, 5.0, 10.0, 20.0};
 const double kConvergences_deg[] = {0.0, 10.0, 20.0};
 constexpr int kSweepSize_px = 1024;
 // Largest baseline at which the whole front end (features + matching + refinement) is held
-// to the issue's targets; see the sweep test.
-constexpr double kFrontEndTargetMaxBaseline_m = 2.0;
+// to the issue's targets, on every odometry draw; see the sweep test. At 2 m most draws
+// meet them, not all (printExtraDraws; docs/wide-baseline-evaluation.md).
+constexpr double kFrontEndTargetMaxBaseline_m = 1.0;
+// Up to this baseline every case is also run with kExtraDraws more odometry error draws
+// (same images): one draw per case says little about how often the front end meets the
+// targets there.
+constexpr double kExtraDrawsMaxBaseline_m = 2.0;
+constexpr int kExtraDraws = 3;
+// Issue 5's targets: RMS vertical disparity after rectification, and its improvement over
+// rectifying with the raw odometry.
+constexpr double kTargetVd_px = 0.25;
+constexpr double kTargetImprovement = 5.0;
 
 // One estimate of the relative pose and what it gives.
 struct PoseEval {
@@ -56,6 +66,17 @@ struct CaseResult {
     double ncc_at_truth = NAN;    // median NCC (11 x 11) of those at their TRUE B position
     PoseEval vtm, cv;                // front end: VTM refine / OpenCV E on the VTM matches
     PoseEval oracle_vtm, oracle_cv;  // oracle matches: VTM refine / OpenCV E
+    // A's features (visible in B) whose best NCC on B's TRUE epipolar line is within 2 px
+    // of the true match (bestNccOnTrueLine): what NCC matching could reach with the pose known.
+    int ceiling_correct = 0;
+    // More odometry draws (baselines up to kExtraDrawsMaxBaseline_m): VTM front end only.
+    struct Draw {
+        OdometryCase odo{};
+        VerticalDisparity vd_odo;
+        PoseEval vtm;
+        int correct_matches = 0;
+    };
+    std::vector<Draw> extra;
 };
 
 double medianOf(std::vector<double> v) {
@@ -156,6 +177,24 @@ CaseResult runCase(const World& world, std::uint64_t seed, double baseline_m, do
         }
     }
     c.ncc_at_truth = medianOf(ncc);
+    const FrontEndSpec spec_default{};
+    c.ceiling_correct =
+        bestNccOnTrueLine(pair, fe.feature_pixels, spec_default.range_min_m, spec_default.range_max_m).correct;
+    if (baseline_m <= kExtraDrawsMaxBaseline_m) {
+        for (int k = 1; k <= kExtraDraws; ++k) {
+            CaseResult::Draw d;
+            d.odo = perturbedOdometry(pair, OdometryErrorSpec{}, s + 7919ULL * static_cast<std::uint64_t>(k));
+            d.vd_odo = vtmVerticalDisparity(pair, d.odo.pose, corr);
+            const FrontEndResult fk = runVtmFrontEnd(pair, d.odo.pose, spec_default);
+            d.correct_matches = fk.correct_matches;
+            if (fk.ok) {
+                d.vtm = evaluatePose(pair, corr, fk.refined);
+            } else {
+                d.vtm.error = fk.error;
+            }
+            c.extra.push_back(d);
+        }
+    }
     evaluateMatches(pair, corr, c.odo.pose, fe.pixels_a, fe.pixels_b, c.vtm, c.cv, &c.inliers);
 
     std::vector<Vec2> pa, pb;
@@ -183,12 +222,12 @@ void printCaseTables(const std::vector<CaseResult>& cases) {
     std::printf("\n#### Per case, %d x %d (angles deg; vd = RMS vertical disparity of true correspondences, px)\n\n",
                 kSweepSize_px, kSweepSize_px);
     std::printf("| seed | B m | conv | odo t %% / hdg deg | rot odo | dir odo | vd odo | vd true pose | pts |"
-                " features | visible in B | NCC at truth | matches | correct | inliers | match err px |"
-                " rot VTM | dir VTM | vd VTM | vd CV-rect (VTM pose) |"
+                " features | visible in B | NCC at truth | correct on the true line | matches | correct | inliers |"
+                " match err px | rot VTM | dir VTM | vd VTM | vd CV-rect (VTM pose) |"
                 " rot CV | dir CV | vd VTM-rect (CV pose) | vd CV (CV pose) |"
                 " oracle rot VTM | dir VTM | vd VTM | vd CV-rect | oracle rot CV | dir CV | vd VTM-rect | vd CV |\n");
     std::printf("|");
-    for (int i = 0; i < 32; ++i) {
+    for (int i = 0; i < 33; ++i) {
         std::printf("---|");
     }
     std::printf("\n");
@@ -196,11 +235,11 @@ void printCaseTables(const std::vector<CaseResult>& cases) {
         char b[32];
         char b2[32];
         std::printf("| %llu | %.0f | %.0f | %.1f / %+.2f | %.3f | %.2f | %.2f | %.4f | %d | %d | %d | %s | %d | %d | %d |"
-                    " %s |",
+                    " %d | %s |",
                     static_cast<unsigned long long>(c.seed), c.baseline_m, c.convergence_deg,
                     100.0 * c.odo.translation_error_fraction, c.odo.heading_error_deg, c.rot_odo, c.dir_odo,
                     c.vd_odo.rms_px, c.vd_truth.rms_px, c.vd_truth.count, c.features, c.features_visible,
-                    fmt(c.ncc_at_truth, b2, "%.2f"), c.matches, c.correct_matches, c.inliers,
+                    fmt(c.ncc_at_truth, b2, "%.2f"), c.ceiling_correct, c.matches, c.correct_matches, c.inliers,
                     fmt(c.match_err_px, b, "%.2f"));
         printPoseCells(c.vtm);
         printPoseCells(c.cv);
@@ -236,13 +275,15 @@ void printWhoWins(const std::vector<CaseResult>& cases, bool oracle) {
                 "vertical disparity RMS px on the VTM-refined pose)\n\n",
                 oracle ? "oracle matches (true, 0.3 px noise)" : "VTM matches", std::size(kSeeds));
     std::printf("| B m | conv | rot VTM | rot CV | dir VTM | dir CV | pose winner | vd VTM rect | vd CV stereoRectify |"
-                " rect winner | vd odometry | features visible in B | NCC at truth | correct matches |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+                " rect winner | vd odometry | features visible in B | NCC at truth | correct on the true line |"
+                " correct matches |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const auto& [key, list] : groups) {
-        std::vector<double> rv, rc, dv, dc, vv, vc, vo, fv, nc, cm;
+        std::vector<double> rv, rc, dv, dc, vv, vc, vo, fv, nc, cl, cm;
         for (const CaseResult* c : list) {
             fv.push_back(c->features_visible);
             nc.push_back(c->ncc_at_truth);
+            cl.push_back(c->ceiling_correct);
             cm.push_back(c->correct_matches);
             const PoseEval& v = oracle ? c->oracle_vtm : c->vtm;
             const PoseEval& o = oracle ? c->oracle_cv : c->cv;
@@ -268,9 +309,9 @@ void printWhoWins(const std::vector<CaseResult>& cases, bool oracle) {
         std::snprintf(pose_winner, sizeof pose_winner, "%s", std::string(rw) == dw ? rw : "split");
         // Rectification: the two are the same maths on the same pose; call it a tie within 0.005 px.
         const char* rect = std::fabs(mvv - mvc) < 0.005 ? "tie" : winner(mvv, mvc);
-        std::printf("| %.0f | %.0f | %.4f | %.4f | %.3f | %.3f | %s | %.3f | %.3f | %s | %.2f | %.0f | %.2f | %.0f |\n",
+        std::printf("| %.0f | %.0f | %.4f | %.4f | %.3f | %.3f | %s | %.3f | %.3f | %s | %.2f | %.0f | %.2f | %.0f | %.0f |\n",
                     key.first, key.second, mrv, mrc, mdv, mdc, pose_winner, mvv, mvc, rect, medianOf(vo), medianOf(fv),
-                    medianOf(nc), medianOf(cm));
+                    medianOf(nc), medianOf(cl), medianOf(cm));
     }
 }
 
@@ -325,14 +366,61 @@ void printSummary(const std::vector<CaseResult>& cases) {
     std::printf("\n");
 }
 
+// The front end over all odometry draws (the sweep's own plus kExtraDraws) at baselines
+// up to kExtraDrawsMaxBaseline_m: per draw vd with the odometry and with the refined pose,
+// and per baseline how many draws meet both targets.
+bool meetsTargets(const VerticalDisparity& odo, const PoseEval& e) {
+    return e.ok && e.vd_vtm.ok && odo.ok && e.vd_vtm.rms_px <= kTargetVd_px &&
+           odo.rms_px / e.vd_vtm.rms_px >= kTargetImprovement;
+}
+
+void printExtraDraws(const std::vector<CaseResult>& cases) {
+    std::printf("\n#### VTM front end over %d odometry draws per case (baselines up to %.0f m; vd RMS px, odometry ->"
+                " refined; * = misses a target)\n\n| seed | B m | conv |",
+                kExtraDraws + 1, kExtraDrawsMaxBaseline_m);
+    for (int k = 0; k <= kExtraDraws; ++k) {
+        std::printf(" draw %d |", k);
+    }
+    std::printf("\n|---|---|---|");
+    for (int k = 0; k <= kExtraDraws; ++k) {
+        std::printf("---|");
+    }
+    std::printf("\n");
+    std::map<double, std::pair<int, int>> per_baseline;  // met, total
+    const auto cell = [&](double b, const VerticalDisparity& odo, const PoseEval& e, int correct) {
+        const bool met = meetsTargets(odo, e);
+        auto& [m, n] = per_baseline[b];
+        m += met ? 1 : 0;
+        ++n;
+        char v[32];
+        std::printf(" %.2f -> %s%s (%d correct) |", odo.rms_px, fmt(vdv(e), v, "%.3f"), met ? "" : " *", correct);
+    };
+    for (const CaseResult& c : cases) {
+        if (c.extra.empty()) {
+            continue;
+        }
+        std::printf("| %llu | %.0f | %.0f |", static_cast<unsigned long long>(c.seed), c.baseline_m,
+                    c.convergence_deg);
+        cell(c.baseline_m, c.vd_odo, c.vtm, c.correct_matches);
+        for (const CaseResult::Draw& d : c.extra) {
+            cell(c.baseline_m, d.vd_odo, d.vtm, d.correct_matches);
+        }
+        std::printf("\n");
+    }
+    std::printf("\n");
+    for (const auto& [b, mn] : per_baseline) {
+        std::printf("- %.0f m: %d of %d draws meet both targets\n", b, mn.first, mn.second);
+    }
+}
+
 void expectTargets(const CaseResult& c, const PoseEval& e, const char* path) {
     SCOPED_TRACE(std::string(path) + ": seed " + std::to_string(c.seed) + " baseline " +
                  std::to_string(c.baseline_m) + " m convergence " + std::to_string(c.convergence_deg) + " deg");
     ASSERT_TRUE(e.ok) << e.error;
     ASSERT_TRUE(e.vd_vtm.ok && c.vd_odo.ok) << e.vd_vtm.error << c.vd_odo.error;
     ASSERT_GE(e.vd_vtm.count, 50);  // enough true correspondences to measure an RMS
-    EXPECT_LE(e.vd_vtm.rms_px, 0.25);
-    EXPECT_GE(c.vd_odo.rms_px / e.vd_vtm.rms_px, 5.0);
+    EXPECT_LE(e.vd_vtm.rms_px, kTargetVd_px);
+    EXPECT_GE(c.vd_odo.rms_px / e.vd_vtm.rms_px, kTargetImprovement);
     // Rotation and direction errors are reported, not asserted: at 10-20 m baselines the
     // overlap holds only distant points and the translation direction is weakly observable
     // (docs/wide-baseline-evaluation.md), while the rows (what rectification needs) stay right.
@@ -370,17 +458,25 @@ TEST(WideBaselineEval, SweepPoseAndVerticalDisparityAgainstTruthAndOpenCV) {
     printWhoWins(cases, false);
     printWhoWins(cases, true);
     printSummary(cases);
+    printExtraDraws(cases);
     for (const CaseResult& c : cases) {
         // The rectifier itself: with the true pose, true correspondences land on one row.
         EXPECT_LT(c.vd_truth.rms_px, 0.01);
         expectTargets(c, c.oracle_vtm, "oracle matches");
-        // The whole front end meets the targets where its matcher finds enough correct
-        // matches: baselines up to kFrontEndTargetMaxBaseline_m. Beyond, Förstner + NCC find
-        // too few (the "correct matches" column): a known miss, printed above and stated in
+        // The whole front end meets the targets on every odometry draw at baselines up to
+        // kFrontEndTargetMaxBaseline_m. At 2 m most draws meet them (printExtraDraws); at
+        // 5-20 m Förstner + NCC find too few correct matches (the "correct matches" column;
+        // at 10-20 m even "correct on the true line", NCC with the pose known, is below the
+        // refiner's 12): a known miss, printed above and stated in
         // docs/wide-baseline-evaluation.md, not hidden. Asserted where met, so that a
         // regression there fails.
         if (c.baseline_m <= kFrontEndTargetMaxBaseline_m) {
             expectTargets(c, c.vtm, "VTM front end");
+            for (const CaseResult::Draw& d : c.extra) {
+                CaseResult cd = c;
+                cd.vd_odo = d.vd_odo;
+                expectTargets(cd, d.vtm, "VTM front end, another odometry draw");
+            }
         }
     }
 }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <utility>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
@@ -416,6 +417,51 @@ double nccAt(const RenderedPair& pair, const Vec2& pixel_a, const Vec2& pixel_b,
     }
     const double va = saa - sa * sa / n, vb = sbb - sb * sb / n;
     return (va > 0 && vb > 0) ? (sab - sa * sb / n) / std::sqrt(va * vb) : std::nan("");
+}
+
+TrueLineCeiling bestNccOnTrueLine(const RenderedPair& pair, const std::vector<Vec2>& pixels_a, double range_min_m,
+                                  double range_max_m) {
+    constexpr int kWindow = 11;
+    // Inverse-range steps about half a pixel apart (the image of A's ray moves by at most
+    // fx |t| per unit of inverse range).
+    const double span = pair.model.fx_px * pair.truth.t_b_from_a_m.norm() * (1.0 / range_min_m - 1.0 / range_max_m);
+    const int steps = static_cast<int>(std::clamp(2.0 * span, 100.0, 200000.0));
+    TrueLineCeiling r;
+    std::vector<std::pair<int, int>> cand;
+    for (const Vec2& f : pixels_a) {
+        const Vec2 a(std::round(f.x()), std::round(f.y()));
+        Vec2 truth_b;
+        CameraRay ray;
+        if (!truthMatch(pair, a, truth_b, true) || !backProjectPixel(pair.model, a, ray).isOk()) {
+            continue;
+        }
+        ++r.visible;
+        cand.clear();
+        for (int k = 0; k <= steps; ++k) {
+            const double inv = (1.0 / range_min_m) + (1.0 / range_max_m - 1.0 / range_min_m) * k / steps;
+            const Vec3 x = pair.truth.R_b_from_a * (ray.origin_m + ray.direction / inv) + pair.truth.t_b_from_a_m;
+            Vec2 px;
+            if (!projectPoint(pair.model, x, px).isOk()) {
+                continue;
+            }
+            for (int dy = -1; dy <= 1; ++dy) {
+                cand.emplace_back(static_cast<int>(std::lround(px.x())), static_cast<int>(std::lround(px.y())) + dy);
+            }
+        }
+        std::sort(cand.begin(), cand.end());
+        cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+        double best = -2.0;
+        Vec2 best_b = Vec2::Zero();
+        for (const auto& [x, y] : cand) {
+            const double v = nccAt(pair, a, Vec2(x, y), kWindow);
+            if (!std::isnan(v) && v > best) {
+                best = v;
+                best_b = Vec2(x, y);
+            }
+        }
+        r.correct += (best > -2.0 && (best_b - truth_b).norm() <= 2.0) ? 1 : 0;
+    }
+    return r;
 }
 
 // ---- VTM front end ----------------------------------------------------------------------

@@ -46,8 +46,8 @@ struct RelativePose {
 
 // ---- world and pairs --------------------------------------------------------------
 
-// Terrain detail used by the sweep (docs: the default world has samples_log2 10,
-// levels 12 with a 1 cm finest cell; the sweep keeps the same extent with 2 cm cells).
+// Terrain of a world. The defaults are the scenario's own (samples_log2 10, levels 12,
+// 1 cm finest cell), which the sweep uses.
 struct WorldSpec {
     std::uint64_t seed = 20240601U;
     int samples_log2 = 10;  // the scenario's own terrain (rover_wide_baseline.scn)
@@ -186,6 +186,20 @@ void noisyTrueMatches(const std::vector<Correspondence>& corr, std::size_t count
 // Normalised correlation of the square window (side `window`) around A's pixel with the
 // window around B's pixel (bilinear at B's subpixel position); NaN near the border.
 [[nodiscard]] double nccAt(const RenderedPair& pair, const Vec2& pixel_a, const Vec2& pixel_b, int window);
+
+// What any matcher that scores 11 x 11 NCC windows can reach, with the pose KNOWN: for
+// each A pixel (rounded) whose true point B sees, the B pixels that A's ray crosses
+// between range_min_m and range_max_m under the TRUE pose (rounded, and one row above and
+// below), and the one with the highest NCC (nccAt). `visible` counts the pixels with a
+// true match, `correct` those whose best position lies within 2 px of it (the
+// "correct matches" criterion). Fewer than MotionConfig::min_inliers correct means the
+// images, not the search region, limit the front end.
+struct TrueLineCeiling {
+    int visible = 0;
+    int correct = 0;
+};
+[[nodiscard]] TrueLineCeiling bestNccOnTrueLine(const RenderedPair& pair, const std::vector<Vec2>& pixels_a,
+                                                double range_min_m, double range_max_m);
 
 // True B pixel of an A pixel (bilinear truth point of A, projected into B), false where
 // the truth is missing (sky, depth edge) and, if require_visible, where the point is
