@@ -74,8 +74,10 @@ struct CaseResult {
         OdometryCase odo{};
         VerticalDisparity vd_odo;
         PoseEval vtm;
+        PoseEval vtm_lk;  // the same matches after the affine Lucas-Kanade prototype, refined again
         int correct_matches = 0;
     };
+    PoseEval vtm_lk;  // draw 0 (the sweep's own), likewise
     std::vector<Draw> extra;
 };
 
@@ -134,6 +136,25 @@ void evaluateMatches(const RenderedPair& pair, const std::vector<Correspondence>
     }
 }
 
+// The front end's matches after the affine Lucas-Kanade prototype (refineMatchesAffineLk,
+// warps from the front end's refined pose), refined again from the odometry.
+PoseEval withLkPrototype(const RenderedPair& pair, const std::vector<Correspondence>& corr,
+                         const RelativePose& odometry, const FrontEndResult& fe) {
+    PoseEval e;
+    if (!fe.ok) {
+        e.error = fe.error;
+        return e;
+    }
+    const LkRefinedMatches lk =
+        refineMatchesAffineLk(pair, fe.refined, FrontEndSpec{}.camera_height_m, fe.pixels_a, fe.pixels_b);
+    const RefineResult rr = refinePose(pair, odometry, lk.pixels_a, lk.pixels_b);
+    if (!rr.ok) {
+        e.error = rr.error;
+        return e;
+    }
+    return evaluatePose(pair, corr, rr.pose);
+}
+
 constexpr std::size_t kOracleMatches = 300U;
 constexpr double kOracleSigmaPx = 0.3;
 
@@ -181,6 +202,7 @@ CaseResult runCase(const World& world, std::uint64_t seed, double baseline_m, do
     c.ceiling_correct =
         bestNccOnTrueLine(pair, fe.feature_pixels, spec_default.range_min_m, spec_default.range_max_m).correct;
     if (baseline_m <= kExtraDrawsMaxBaseline_m) {
+        c.vtm_lk = withLkPrototype(pair, corr, c.odo.pose, fe);
         for (int k = 1; k <= kExtraDraws; ++k) {
             CaseResult::Draw d;
             d.odo = perturbedOdometry(pair, OdometryErrorSpec{}, s + 7919ULL * static_cast<std::uint64_t>(k));
@@ -189,6 +211,7 @@ CaseResult runCase(const World& world, std::uint64_t seed, double baseline_m, do
             d.correct_matches = fk.correct_matches;
             if (fk.ok) {
                 d.vtm = evaluatePose(pair, corr, fk.refined);
+                d.vtm_lk = withLkPrototype(pair, corr, d.odo.pose, fk);
             } else {
                 d.vtm.error = fk.error;
             }
@@ -376,7 +399,8 @@ bool meetsTargets(const VerticalDisparity& odo, const PoseEval& e) {
 
 void printExtraDraws(const std::vector<CaseResult>& cases) {
     std::printf("\n#### VTM front end over %d odometry draws per case (baselines up to %.0f m; vd RMS px, odometry ->"
-                " refined; * = misses a target)\n\n| seed | B m | conv |",
+                " refined; LK = the matches after the affine Lucas-Kanade prototype, refined again; * = misses a"
+                " target)\n\n| seed | B m | conv |",
                 kExtraDraws + 1, kExtraDrawsMaxBaseline_m);
     for (int k = 0; k <= kExtraDraws; ++k) {
         std::printf(" draw %d |", k);
@@ -387,13 +411,18 @@ void printExtraDraws(const std::vector<CaseResult>& cases) {
     }
     std::printf("\n");
     std::map<double, std::pair<int, int>> per_baseline;  // met, total
-    const auto cell = [&](double b, const VerticalDisparity& odo, const PoseEval& e, int correct) {
+    std::map<double, int> per_baseline_lk;                // met with the LK prototype
+    const auto cell = [&](double b, const VerticalDisparity& odo, const PoseEval& e, const PoseEval& e_lk,
+                          int correct) {
         const bool met = meetsTargets(odo, e);
+        const bool met_lk = meetsTargets(odo, e_lk);
         auto& [m, n] = per_baseline[b];
         m += met ? 1 : 0;
         ++n;
-        char v[32];
-        std::printf(" %.2f -> %s%s (%d correct) |", odo.rms_px, fmt(vdv(e), v, "%.3f"), met ? "" : " *", correct);
+        per_baseline_lk[b] += met_lk ? 1 : 0;
+        char v[32], v_lk[32];
+        std::printf(" %.2f -> %s%s (%d correct); LK %s%s |", odo.rms_px, fmt(vdv(e), v, "%.3f"), met ? "" : " *",
+                    correct, fmt(vdv(e_lk), v_lk, "%.3f"), met_lk ? "" : " *");
     };
     for (const CaseResult& c : cases) {
         if (c.extra.empty()) {
@@ -401,15 +430,16 @@ void printExtraDraws(const std::vector<CaseResult>& cases) {
         }
         std::printf("| %llu | %.0f | %.0f |", static_cast<unsigned long long>(c.seed), c.baseline_m,
                     c.convergence_deg);
-        cell(c.baseline_m, c.vd_odo, c.vtm, c.correct_matches);
+        cell(c.baseline_m, c.vd_odo, c.vtm, c.vtm_lk, c.correct_matches);
         for (const CaseResult::Draw& d : c.extra) {
-            cell(c.baseline_m, d.vd_odo, d.vtm, d.correct_matches);
+            cell(c.baseline_m, d.vd_odo, d.vtm, d.vtm_lk, d.correct_matches);
         }
         std::printf("\n");
     }
     std::printf("\n");
     for (const auto& [b, mn] : per_baseline) {
-        std::printf("- %.0f m: %d of %d draws meet both targets\n", b, mn.first, mn.second);
+        std::printf("- %.0f m: %d of %d draws meet both targets; with the LK prototype %d\n", b, mn.first, mn.second,
+                    per_baseline_lk[b]);
     }
 }
 

@@ -641,6 +641,137 @@ void noisyTrueMatches(const std::vector<Correspondence>& corr, std::size_t count
     }
 }
 
+// ---- affine Lucas-Kanade prototype -------------------------------------------------------
+
+namespace {
+
+using Mat2 = Eigen::Matrix<double, 2, 2>;
+
+// Bilinear grey level of B (or A) at (x, y); NaN outside.
+double bilinear(const std::vector<std::uint8_t>& im, int w, int h, double x, double y) {
+    const int x0 = static_cast<int>(std::floor(x));
+    const int y0 = static_cast<int>(std::floor(y));
+    if (x0 < 0 || y0 < 0 || x0 + 1 >= w || y0 + 1 >= h) {
+        return std::nan("");
+    }
+    const double fx = x - x0, fy = y - y0;
+    const auto px = [&](int xx, int yy) {
+        return static_cast<double>(im[static_cast<std::size_t>(yy) * static_cast<std::size_t>(w) +
+                                      static_cast<std::size_t>(xx)]);
+    };
+    return (1 - fy) * ((1 - fx) * px(x0, y0) + fx * px(x0 + 1, y0)) +
+           fy * ((1 - fx) * px(x0, y0 + 1) + fx * px(x0 + 1, y0 + 1));
+}
+
+// Local affine (B pixel offsets per A pixel offset) of the homography that the plane
+// up . X = -height (A's frame) induces under `pose`, at A's pixel a.
+Mat2 groundPlaneAffine(const CameraModel& m, const RelativePose& pose, const Vec3& up, double height,
+                       const Vec2& a) {
+    Mat3 k;
+    k << m.fx_px, 0.0, m.cx_px, 0.0, m.fy_px, m.cy_px, 0.0, 0.0, 1.0;
+    const Mat3 hm = k * (pose.R_b_from_a - pose.t_b_from_a_m * up.transpose() / height) * k.inverse();
+    const auto map = [&](const Vec2& q) {
+        const Vec3 v = hm * Vec3(q.x(), q.y(), 1.0);
+        return Vec2(v.x() / v.z(), v.y() / v.z());
+    };
+    Mat2 j;
+    j.col(0) = (map(a + Vec2(0.5, 0.0)) - map(a - Vec2(0.5, 0.0)));
+    j.col(1) = (map(a + Vec2(0.0, 0.5)) - map(a - Vec2(0.0, 0.5)));
+    return j;
+}
+
+// One match: B's pixel b refined in place; false if a window leaves an image or the
+// normal equations fail. ncc: normalised correlation at the result.
+bool affineLk(const RenderedPair& pair, const Vec2& a, Vec2& b, Mat2 warp, double& ncc) {
+    constexpr int kHalf = 7;
+    constexpr int kSteps = 20;
+    const int w = pair.width, h = pair.height;
+    double gain = 1.0, offset = 0.0;
+    using Vec8 = Eigen::Matrix<double, 8, 1>;
+    for (int step = 0; step < kSteps; ++step) {
+        Eigen::Matrix<double, 8, 8> jtj = Eigen::Matrix<double, 8, 8>::Zero();
+        Vec8 jtr = Vec8::Zero();
+        for (int v = -kHalf; v <= kHalf; ++v) {
+            for (int u = -kHalf; u <= kHalf; ++u) {
+                const double ia = bilinear(pair.image_a, w, h, a.x() + u, a.y() + v);
+                const Vec2 q = b + warp * Vec2(u, v);
+                const double ib = bilinear(pair.image_b, w, h, q.x(), q.y());
+                const double gx = bilinear(pair.image_b, w, h, q.x() + 0.5, q.y()) -
+                                  bilinear(pair.image_b, w, h, q.x() - 0.5, q.y());
+                const double gy = bilinear(pair.image_b, w, h, q.x(), q.y() + 0.5) -
+                                  bilinear(pair.image_b, w, h, q.x(), q.y() - 0.5);
+                if (std::isnan(ia) || std::isnan(ib) || std::isnan(gx) || std::isnan(gy)) {
+                    return false;
+                }
+                Vec8 j;
+                j << gx, gy, gx * u, gx * v, gy * u, gy * v, -ia, -1.0;
+                jtj += j * j.transpose();
+                jtr += j * (ib - (gain * ia + offset));
+            }
+        }
+        const Vec8 d = jtj.ldlt().solve(-jtr);
+        if (!d.allFinite()) {
+            return false;
+        }
+        b += Vec2(d(0), d(1));
+        warp(0, 0) += d(2);
+        warp(0, 1) += d(3);
+        warp(1, 0) += d(4);
+        warp(1, 1) += d(5);
+        gain += d(6);
+        offset += d(7);
+        if (std::hypot(d(0), d(1)) < 1.0e-3) {
+            break;
+        }
+    }
+    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+    const double n = (2 * kHalf + 1) * (2 * kHalf + 1);
+    for (int v = -kHalf; v <= kHalf; ++v) {
+        for (int u = -kHalf; u <= kHalf; ++u) {
+            const double ia = bilinear(pair.image_a, w, h, a.x() + u, a.y() + v);
+            const Vec2 q = b + warp * Vec2(u, v);
+            const double ib = bilinear(pair.image_b, w, h, q.x(), q.y());
+            if (std::isnan(ia) || std::isnan(ib)) {
+                return false;
+            }
+            sa += ia;
+            sb += ib;
+            saa += ia * ia;
+            sbb += ib * ib;
+            sab += ia * ib;
+        }
+    }
+    const double va = saa - sa * sa / n, vb = sbb - sb * sb / n;
+    ncc = (va > 0 && vb > 0) ? (sab - sa * sb / n) / std::sqrt(va * vb) : -1.0;
+    return true;
+}
+
+}  // namespace
+
+LkRefinedMatches refineMatchesAffineLk(const RenderedPair& pair, const RelativePose& pose, double camera_height_m,
+                                       const std::vector<Vec2>& pixels_a, const std::vector<Vec2>& pixels_b) {
+    constexpr double kMaxMove_px = 2.0;
+    constexpr double kMinNcc = 0.7;
+    LkRefinedMatches r;
+    const Vec3 up = pair.pose_a.R_site_from_ref.transpose() * Vec3(0.0, 0.0, -1.0);
+    for (std::size_t i = 0; i < pixels_a.size() && i < pixels_b.size(); ++i) {
+        Mat2 warp = groundPlaneAffine(pair.model, pose, up, camera_height_m, pixels_a[i]);
+        const double det = warp.determinant();
+        if (!(det > 0.2 && det < 5.0)) {
+            warp = Mat2::Identity();  // the plane does not describe this view (sky, behind)
+        }
+        Vec2 b = pixels_b[i];
+        double ncc = -1.0;
+        if (!affineLk(pair, pixels_a[i], b, warp, ncc) || (b - pixels_b[i]).norm() > kMaxMove_px || ncc < kMinNcc) {
+            ++r.dropped;
+            continue;
+        }
+        r.pixels_a.push_back(pixels_a[i]);
+        r.pixels_b.push_back(b);
+    }
+    return r;
+}
+
 // ---- OpenCV peers ---------------------------------------------------------------------
 
 PeerPoseResult opencvRelativePose(const CameraModel& pinhole, const std::vector<Vec2>& pixels_a,
