@@ -382,6 +382,44 @@ bool truthMatch(const RenderedPair& pair, const Vec2& pixel_a, Vec2& pixel_b, bo
            std::fabs(range_b - X_b.norm()) <= 0.01 * X_b.norm();
 }
 
+namespace {
+
+// Bilinear grey level of B (or A) at (x, y); NaN outside.
+double bilinear(const std::vector<std::uint8_t>& im, int w, int h, double x, double y) {
+    const int x0 = static_cast<int>(std::floor(x));
+    const int y0 = static_cast<int>(std::floor(y));
+    if (x0 < 0 || y0 < 0 || x0 + 1 >= w || y0 + 1 >= h) {
+        return std::nan("");
+    }
+    const double fx = x - x0, fy = y - y0;
+    const auto px = [&](int xx, int yy) {
+        return static_cast<double>(im[static_cast<std::size_t>(yy) * static_cast<std::size_t>(w) +
+                                      static_cast<std::size_t>(xx)]);
+    };
+    return (1 - fy) * ((1 - fx) * px(x0, y0) + fx * px(x0 + 1, y0)) +
+           fy * ((1 - fx) * px(x0, y0 + 1) + fx * px(x0 + 1, y0 + 1));
+}
+
+// Sums of a normalised correlation of two windows, one pair of grey levels at a time.
+struct NccSums {
+    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0, n = 0;
+    void add(double a, double b) {
+        sa += a;
+        sb += b;
+        saa += a * a;
+        sbb += b * b;
+        sab += a * b;
+        n += 1.0;
+    }
+    // NaN when either window is flat.
+    [[nodiscard]] double value() const {
+        const double va = saa - sa * sa / n, vb = sbb - sb * sb / n;
+        return (va > 0 && vb > 0) ? (sab - sa * sb / n) / std::sqrt(va * vb) : std::nan("");
+    }
+};
+
+}  // namespace
+
 double nccAt(const RenderedPair& pair, const Vec2& pixel_a, const Vec2& pixel_b, int window) {
     const int h = window / 2;
     const int xa = static_cast<int>(std::lround(pixel_a.x()));
@@ -391,32 +429,16 @@ double nccAt(const RenderedPair& pair, const Vec2& pixel_a, const Vec2& pixel_b,
         return std::nan("");
     }
     const Vec2 shift = pixel_b - Vec2(xa, ya);
-    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-    const double n = static_cast<double>(window * window);
+    NccSums sums;
     for (int dy = -h; dy <= h; ++dy) {
         for (int dx = -h; dx <= h; ++dx) {
             const double a = pair.image_a[static_cast<std::size_t>(ya + dy) * static_cast<std::size_t>(pair.width) +
                                           static_cast<std::size_t>(xa + dx)];
             const Vec2 p = Vec2(xa + dx, ya + dy) + shift;
-            const int x0 = static_cast<int>(std::floor(p.x()));
-            const int y0 = static_cast<int>(std::floor(p.y()));
-            const double fx = p.x() - x0, fy = p.y() - y0;
-            const auto px = [&](int x, int y) {
-                return static_cast<double>(
-                    pair.image_b[static_cast<std::size_t>(y) * static_cast<std::size_t>(pair.width) +
-                                 static_cast<std::size_t>(x)]);
-            };
-            const double b = (1 - fy) * ((1 - fx) * px(x0, y0) + fx * px(x0 + 1, y0)) +
-                             fy * ((1 - fx) * px(x0, y0 + 1) + fx * px(x0 + 1, y0 + 1));
-            sa += a;
-            sb += b;
-            saa += a * a;
-            sbb += b * b;
-            sab += a * b;
+            sums.add(a, bilinear(pair.image_b, pair.width, pair.height, p.x(), p.y()));
         }
     }
-    const double va = saa - sa * sa / n, vb = sbb - sb * sb / n;
-    return (va > 0 && vb > 0) ? (sab - sa * sb / n) / std::sqrt(va * vb) : std::nan("");
+    return sums.value();
 }
 
 TrueLineCeiling bestNccOnTrueLine(const RenderedPair& pair, const std::vector<Vec2>& pixels_a, double range_min_m,
@@ -647,22 +669,6 @@ namespace {
 
 using Mat2 = Eigen::Matrix<double, 2, 2>;
 
-// Bilinear grey level of B (or A) at (x, y); NaN outside.
-double bilinear(const std::vector<std::uint8_t>& im, int w, int h, double x, double y) {
-    const int x0 = static_cast<int>(std::floor(x));
-    const int y0 = static_cast<int>(std::floor(y));
-    if (x0 < 0 || y0 < 0 || x0 + 1 >= w || y0 + 1 >= h) {
-        return std::nan("");
-    }
-    const double fx = x - x0, fy = y - y0;
-    const auto px = [&](int xx, int yy) {
-        return static_cast<double>(im[static_cast<std::size_t>(yy) * static_cast<std::size_t>(w) +
-                                      static_cast<std::size_t>(xx)]);
-    };
-    return (1 - fy) * ((1 - fx) * px(x0, y0) + fx * px(x0 + 1, y0)) +
-           fy * ((1 - fx) * px(x0, y0 + 1) + fx * px(x0 + 1, y0 + 1));
-}
-
 // Local affine (B pixel offsets per A pixel offset) of the homography that the plane
 // up . X = -height (A's frame) induces under `pose`, at A's pixel a.
 Mat2 groundPlaneAffine(const CameraModel& m, const RelativePose& pose, const Vec3& up, double height,
@@ -724,8 +730,7 @@ bool affineLk(const RenderedPair& pair, const Vec2& a, Vec2& b, Mat2 warp, doubl
             break;
         }
     }
-    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-    const double n = (2 * kHalf + 1) * (2 * kHalf + 1);
+    NccSums sums;
     for (int v = -kHalf; v <= kHalf; ++v) {
         for (int u = -kHalf; u <= kHalf; ++u) {
             const double ia = bilinear(pair.image_a, w, h, a.x() + u, a.y() + v);
@@ -734,15 +739,11 @@ bool affineLk(const RenderedPair& pair, const Vec2& a, Vec2& b, Mat2 warp, doubl
             if (std::isnan(ia) || std::isnan(ib)) {
                 return false;
             }
-            sa += ia;
-            sb += ib;
-            saa += ia * ia;
-            sbb += ib * ib;
-            sab += ia * ib;
+            sums.add(ia, ib);
         }
     }
-    const double va = saa - sa * sa / n, vb = sbb - sb * sb / n;
-    ncc = (va > 0 && vb > 0) ? (sab - sa * sb / n) / std::sqrt(va * vb) : -1.0;
+    ncc = sums.value();
+    ncc = std::isnan(ncc) ? -1.0 : ncc;  // a flat window is no match
     return true;
 }
 
