@@ -24,6 +24,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
+// A match is "correct" within this distance of its true position (FrontEndResult,
+// TrueLineCeiling).
+constexpr double kCorrectMatch_px = 2.0;
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -481,7 +484,7 @@ TrueLineCeiling bestNccOnTrueLine(const RenderedPair& pair, const std::vector<Ve
                 best_b = Vec2(x, y);
             }
         }
-        r.correct += (best > -2.0 && (best_b - truth_b).norm() <= 2.0) ? 1 : 0;
+        r.correct += (best > -2.0 && (best_b - truth_b).norm() <= kCorrectMatch_px) ? 1 : 0;
     }
     return r;
 }
@@ -580,7 +583,7 @@ Status matchFeatures(const RenderedPair& pair, const RelativePose& odometry, con
         if (truthMatch(pair, m.pixel_a, truth_b, true)) {
             const double e = (truth_b - m.pixel_b).norm();
             errs.push_back(e);
-            r.correct_matches += (e <= 2.0) ? 1 : 0;
+            r.correct_matches += (e <= kCorrectMatch_px) ? 1 : 0;
         }
     }
     r.match_error_median_px = median(errs);
