@@ -273,11 +273,12 @@ int main(int argc, char** argv) {
             total.attempted += s1.attempted;
             total.no_region += s1.no_region;
             total.low_score += s1.low_score;
+            total.not_refined += s1.not_refined;
             total.not_mutual += s1.not_mutual;
             total.matched += s1.matched;
         }
-        std::printf("oracle: attempted %d matched %d no_region %d low_score %d not_mutual %d\n", total.attempted,
-                    total.matched, total.no_region, total.low_score, total.not_mutual);
+        std::printf("oracle: attempted %d matched %d no_region %d low_score %d not_refined %d not_mutual %d\n",
+                    total.attempted, total.matched, total.no_region, total.low_score, total.not_refined, total.not_mutual);
     }
     MatchStats st;
     double best_ms = 1e30;
@@ -322,8 +323,8 @@ int main(int argc, char** argv) {
     std::printf("pair %s, %s prediction, normal %s, window %d, levels %d, min_score %.2f, margin %.0f px\n",
                 dir.c_str(), spoil ? "SPOILED (2 deg heading, 5 % baseline sideways)" : "true", use_normal ? "site up" : "none",
                 mc.template_window, mc.pyramid_levels, static_cast<double>(mc.min_score), margin_px);
-    std::printf("features %d: matched %d (no_region %d, low_score %d, not_mutual %d); match() %.1f ms (best of %d)\n",
-                fs->count, st.matched, st.no_region, st.low_score, st.not_mutual, best_ms, repeat);
+    std::printf("features %d: matched %d (no_region %d, low_score %d, not_refined %d, not_mutual %d); match() %.1f ms (best of %d)\n",
+                fs->count, st.matched, st.no_region, st.low_score, st.not_refined, st.not_mutual, best_ms, repeat);
     std::printf("vs truth (%zu checked, %d occluded in B, %d without truth): median %.3f px, p90 %.3f px, "
                 "within 1 px %.1f %%, max %.2f px\n",
                 errs.size(), occluded, no_truth, percentile(errs, 0.5), percentile(errs, 0.9),

@@ -49,8 +49,8 @@ int main() {
     std::printf("workspace: detector %zu B, matcher %zu B\n", ForstnerDetector::workspaceBytes(dc),
                 TemplateMatcher::workspaceBytes(mc));
     std::printf("detect: %d features in %.1f ms\n", fs->count, detect_ms);
-    std::printf("match:  %d matched (no_region %d, low_score %d, not_mutual %d) in %.1f ms (margin %.0f px, ranges %.0f..%.0f m)\n",
-                out->count, st.no_region, st.low_score, st.not_mutual, match_ms, p.margin_px, p.range_min_m,
+    std::printf("match:  %d matched (no_region %d, low_score %d, not_refined %d, not_mutual %d) in %.1f ms (margin %.0f px, ranges %.0f..%.0f m)\n",
+                out->count, st.no_region, st.low_score, st.not_refined, st.not_mutual, match_ms, p.margin_px, p.range_min_m,
                 p.range_max_m);
     return 0;
 }

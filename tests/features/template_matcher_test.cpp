@@ -85,7 +85,7 @@ TEST(TemplateMatcher, MatchesAShiftedImageWithinAFifthOfAPixel) {
     ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, scene->prediction(), *out, &stats).isOk());
     EXPECT_EQ(scope.heapCalls(), 0U);
     EXPECT_EQ(stats.attempted, fs->count);
-    EXPECT_EQ(stats.no_region + stats.low_score + stats.not_mutual + stats.matched, stats.attempted);
+    EXPECT_EQ(stats.no_region + stats.low_score + stats.not_refined + stats.not_mutual + stats.matched, stats.attempted);
     // Features whose true match keeps the template inside B must all match.
     double worst = 0.0, sum_sq = 0.0;
     for (std::int32_t i = 0; i < out->count; ++i) {
@@ -138,7 +138,7 @@ TEST(TemplateMatcher, DoesNotMatchOutsideThePredictedRegion) {
     MatchStats stats;
     ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, p, *out, &stats).isOk());
     EXPECT_EQ(out->count, 0);
-    EXPECT_EQ(stats.no_region + stats.low_score + stats.not_mutual, stats.attempted);
+    EXPECT_EQ(stats.no_region + stats.low_score + stats.not_refined + stats.not_mutual, stats.attempted);
     // A region entirely outside B (a 1000 px sideways move at 5..40 m): no region at all.
     p = scene->prediction();
     p.t_b_from_a_m = Vec3(1000.0, 0.0, 0.0);

@@ -259,7 +259,7 @@ std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, con
                   "| item | value |\n|---|---|\n"
                   "| images | %s, %s (%dx%d) |\n"
                   "| features in image 1 | %d (candidates %d) |\n"
-                  "| matches (mutual, NCC >= %.2f) | %d of %d tried (no region %d, low score %d, not mutual %d) |\n"
+                  "| matches (mutual, NCC >= %.2f) | %d of %d tried (no region %d, low score %d, not refined %d, not mutual %d) |\n"
                   "| inliers | %d of %d |\n"
                   "| reprojection RMS, odometry motion | %.3f px |\n"
                   "| reprojection RMS, refined (inliers) | %.3f px |\n"
@@ -271,7 +271,7 @@ std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, con
                   o.image1.c_str(), o.image2.c_str(), in.image1.width, in.image1.height, run.features->count,
                   run.detector_stats.candidates, static_cast<double>(features::MatcherConfig{}.min_score),
                   run.matches->count, run.match_stats.attempted, run.match_stats.no_region, run.match_stats.low_score,
-                  run.match_stats.not_mutual, r.inliers, r.matches, r.initial_rms_px, r.rms_px, dR,
+                  run.match_stats.not_refined, run.match_stats.not_mutual, r.inliers, r.matches, r.initial_rms_px, r.rms_px, dR,
                   r.rotation_sigma_rad * kRadToDeg, dT, r.direction_sigma_rad * kRadToDeg, r.t_b_from_a_m.norm(),
                   r.iterations, r.passes, run.detect_s, run.match_s, run.refine_s);
     return t;

@@ -74,6 +74,7 @@ struct SearchResult {
     Outcome outcome = Outcome::kNoMatch;
     Vec2 pixel = Vec2::Zero();
     double score = -1.0;
+    Affine2 warp{};  // the warp of the template that won at full resolution
 };
 
 struct Pos {
@@ -583,6 +584,7 @@ std::int32_t coarseLevel(const TemplateMatcher::Pyramid& from, const TemplateMat
 struct Estimate {
     Vec2 feature_to = Vec2::Zero();
     double score = -2.0;
+    Affine2 warp{};
     bool ok = false;
 };
 
@@ -617,6 +619,7 @@ Estimate refineAt(const TemplateMatcher::Pyramid& from, const TemplateMatcher::P
     const Vec2 b = (l == 0) ? subpixel(t, to.level[0], best.pos, best.score, half) : toVec(best.pos);
     e.feature_to = b + apply(rs.warp[k], frac);
     e.score = best.score;
+    e.warp = rs.warp[k];
     e.ok = true;
     return e;
 }
@@ -671,6 +674,7 @@ SearchResult search(const TemplateMatcher::Pyramid& from, const TemplateMatcher:
     r.outcome = Outcome::kFound;
     r.score = e.score;
     r.pixel = e.feature_to;
+    r.warp = e.warp;
     return r;
 }
 
@@ -715,6 +719,9 @@ Status MatcherConfig::validate() const noexcept {
     }
     if (!(mutual_tolerance_px > 0.f && mutual_tolerance_px < 1.0e6f)) {
         return Status(StatusCode::kInvalidConfig, "MatcherConfig.mutual_tolerance_px: must be > 0 and finite");
+    }
+    if (refine_affine) {
+        VTM_RETURN_IF_ERROR(affine.validate());
     }
     return Status::ok();
 }
@@ -845,6 +852,39 @@ Status checkInputs(const MatcherConfig& c, const ImageView<const std::uint8_t>& 
     }
     return Status::ok();
 }
+// The affine refinement of a forward match, started from the winning template's warp.
+// False when it is not accepted. Errors cannot happen here (the configuration was
+// validated, both pixels are finite); one would leave the match out, never pass it on
+// unrefined.
+bool refinedAffine(const AffineRefineConfig& config, const ImageView<const std::uint8_t>& image_a,
+                   const ImageView<const std::uint8_t>& image_b, const Vec2& pixel_a, const SearchResult& fwd,
+                   Vec2& pixel_b) noexcept {
+    Mat2 warp;
+    warp << fwd.warp.a, fwd.warp.b, fwd.warp.c, fwd.warp.d;
+    AffineMatch am;
+    if (!refineAffine(image_a, image_b, pixel_a, fwd.pixel, warp, config, am).isOk() ||
+        am.outcome != AffineOutcome::kAccepted) {
+        return false;
+    }
+    pixel_b = am.pixel_b;
+    return true;
+}
+
+// The A -> B search of a (validated) prediction, the terrain normal normalised.
+Geometry forwardGeometry(const MatchPrediction& prediction) noexcept {
+    Geometry g;
+    g.from = prediction.model_a;
+    g.to = prediction.model_b;
+    g.R_to_from = prediction.R_b_from_a;
+    g.t_to_from_m = prediction.t_b_from_a_m;
+    g.range_min_m = prediction.range_min_m;
+    g.range_max_m = prediction.range_max_m;
+    g.margin_px = prediction.margin_px;
+    const double n2 = prediction.surface_normal_a.squaredNorm();
+    g.normal_from = (n2 > 0.0) ? Vec3(prediction.surface_normal_a / math::sqrt(n2)) : Vec3::Zero();
+    setAxis(g);
+    return g;
+}
 }  // namespace
 
 Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
@@ -862,17 +902,7 @@ Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
     Pyramid pa, pb;
     buildPyramid(image_a, storageA_, pa);
     buildPyramid(image_b, storageB_, pb);
-    Geometry forward;
-    forward.from = prediction.model_a;
-    forward.to = prediction.model_b;
-    forward.R_to_from = prediction.R_b_from_a;
-    forward.t_to_from_m = prediction.t_b_from_a_m;
-    forward.range_min_m = prediction.range_min_m;
-    forward.range_max_m = prediction.range_max_m;
-    forward.margin_px = prediction.margin_px;
-    const double n2 = prediction.surface_normal_a.squaredNorm();
-    forward.normal_from = (n2 > 0.0) ? Vec3(prediction.surface_normal_a / math::sqrt(n2)) : Vec3::Zero();
-    setAxis(forward);
+    const Geometry forward = forwardGeometry(prediction);
     Geometry backward = inverseOf(forward);
     setAxis(backward);
     TemplateBank bank;
@@ -892,14 +922,19 @@ Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
             ++st.low_score;
             continue;
         }
-        const SearchResult back = search(pb, pa, backward, fwd.pixel, bank);
+        Vec2 pixel_b = fwd.pixel;
+        if (config_.refine_affine && !refinedAffine(config_.affine, image_a, image_b, pixel_a, fwd, pixel_b)) {
+            ++st.not_refined;
+            continue;
+        }
+        const SearchResult back = search(pb, pa, backward, pixel_b, bank);
         if (back.outcome != Outcome::kFound || (back.pixel - pixel_a).norm() > tolerance) {
             ++st.not_mutual;
             continue;
         }
         Match& m = out.items[out.count];
         m.pixel_a = pixel_a;
-        m.pixel_b = fwd.pixel;
+        m.pixel_b = pixel_b;
         m.score = static_cast<float>(fwd.score);
         m.feature_index = i;
         ++out.count;

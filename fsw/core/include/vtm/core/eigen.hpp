@@ -20,6 +20,7 @@ namespace vtm {
 using Vec2 = Eigen::Matrix<double, 2, 1>;
 using Vec3 = Eigen::Matrix<double, 3, 1>;
 using Vec4 = Eigen::Matrix<double, 4, 1>;
+using Mat2 = Eigen::Matrix<double, 2, 2>;
 using Mat3 = Eigen::Matrix<double, 3, 3>;
 using Mat4 = Eigen::Matrix<double, 4, 4>;
 using Quat = Eigen::Quaternion<double>;

@@ -26,7 +26,11 @@
 //  4. Refinement at each finer level: +-kRefineRadius px around the prediction, with the
 //     winning warp of the nearest sample; at full resolution a 2D quadratic through the
 //     3x3 NCC neighbourhood gives the subpixel position (vertex clamped to +-0.5 px).
-//  5. Mutual check: B's point is searched back in A by the same steps with the inverse
+//  5. Affine refinement (refine_affine): Lucas-Kanade over position, a 2x2 affine map and
+//     gain/offset on a kAffineWindow window, started from the winning warp
+//     (affine_refine.hpp); a fit that fails, moves more than affine.max_shift_px or ends
+//     below affine.min_score drops the match.
+//  6. Mutual check: B's point is searched back in A by the same steps with the inverse
 //     pose, B's ray (ranges widened by the baseline) and the normal rotated into B; the
 //     result must lie within mutual_tolerance_px of the feature.
 // NCC is computed from exact integer sums with one correctly rounded sqrt: the same bits
@@ -42,6 +46,7 @@
 #include "vtm/core/image.hpp"
 #include "vtm/core/span.hpp"
 #include "vtm/core/status.hpp"
+#include "vtm/features/affine_refine.hpp"
 #include "vtm/features/forstner.hpp"
 
 namespace vtm::features {
@@ -85,12 +90,18 @@ struct MatcherConfig {
     std::int32_t pyramid_levels = 2;                   // coarse search at 1 / 2^levels; 0..kMaxPyramidLevels
     float min_score = 0.8f;                            // NCC of an accepted match, [-1, 1]
     float mutual_tolerance_px = 1.0f;                  // B->A match must return within this, > 0
+    // Step 5 (before the mutual check): every match refined by affine Lucas-Kanade
+    // (affine_refine.hpp) from the winning template's warp; a fit that is not accepted
+    // drops the match (not_refined).
+    bool refine_affine = true;
+    AffineRefineConfig affine{};
     [[nodiscard]] Status validate() const noexcept;
 };
 
-// Every attempted feature ends in exactly one of no_region, low_score, not_mutual, matched.
+// Every attempted feature ends in exactly one of no_region, low_score, not_refined,
+// not_mutual, matched.
 struct MatchStats {
-    std::int32_t attempted = 0, no_region = 0, low_score = 0, not_mutual = 0, matched = 0;
+    std::int32_t attempted = 0, no_region = 0, low_score = 0, not_refined = 0, not_mutual = 0, matched = 0;
 };
 
 class TemplateMatcher {

@@ -1,0 +1,273 @@
+// Affine Lucas-Kanade refinement of one match (affine_refine.hpp).
+#include "vtm/features/affine_refine.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vtm/core/math.hpp"
+
+namespace vtm::features {
+namespace {
+
+constexpr std::int32_t kHalf = kAffineWindow / 2;
+constexpr std::int32_t kSamples = kAffineWindow * kAffineWindow;
+constexpr std::int32_t kParams = 8;  // b (2), warp (4, row-major), gain, offset
+constexpr double kGradientStep_px = 0.5;
+// The same trust bounds as the template matcher's plane-induced warps.
+constexpr double kMaxWarpArea = 16.0;
+constexpr double kMaxWarpEntry = 8.0;
+
+using Mat8 = Eigen::Matrix<double, kParams, kParams>;
+using Vec8 = Eigen::Matrix<double, kParams, 1>;
+
+struct Params {
+    Vec2 b = Vec2::Zero();
+    Mat2 warp = Mat2::Identity();
+    double gain = 1.0;
+    double offset = 0.0;
+};
+
+// Bilinear sample at (x, y); the caller keeps (x, y) inside [0, w-1] x [0, h-1] and the
+// image at least 2 x 2 (windowInside guarantees both).
+double sample(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
+    const std::int32_t x0 = std::min(static_cast<std::int32_t>(std::floor(x)), img.width() - 2);
+    const std::int32_t y0 = std::min(static_cast<std::int32_t>(std::floor(y)), img.height() - 2);
+    const double fx = x - static_cast<double>(x0);
+    const double fy = y - static_cast<double>(y0);
+    const std::uint8_t* r0 = img.row(y0) + x0;
+    const std::uint8_t* r1 = img.row(y0 + 1) + x0;
+    const double top = static_cast<double>(r0[0]) + fx * (static_cast<double>(r0[1]) - static_cast<double>(r0[0]));
+    const double bottom = static_cast<double>(r1[0]) + fx * (static_cast<double>(r1[1]) - static_cast<double>(r1[0]));
+    return top + fy * (bottom - top);
+}
+
+// Whether centre + warp (u, v), |u|, |v| <= kHalf, widened by `margin`, lies inside the
+// image's sample domain [0, w-1] x [0, h-1] (an affine image of a square: its extent is
+// kHalf times the rows' absolute sums).
+bool windowInside(const ImageView<const std::uint8_t>& img, const Vec2& centre, const Mat2& warp,
+                  double margin) noexcept {
+    const double half = static_cast<double>(kHalf);
+    const double ex = half * (std::fabs(warp(0, 0)) + std::fabs(warp(0, 1))) + margin;
+    const double ey = half * (std::fabs(warp(1, 0)) + std::fabs(warp(1, 1))) + margin;
+    return img.width() >= 2 && img.height() >= 2 && centre.x() - ex >= 0.0 && centre.y() - ey >= 0.0 &&
+           centre.x() + ex <= static_cast<double>(img.width() - 1) &&
+           centre.y() + ey <= static_cast<double>(img.height() - 1);
+}
+
+bool warpUsable(const Mat2& w) noexcept {
+    const double det = w(0, 0) * w(1, 1) - w(0, 1) * w(1, 0);
+    const double biggest =
+        std::max(std::max(std::fabs(w(0, 0)), std::fabs(w(0, 1))), std::max(std::fabs(w(1, 0)), std::fabs(w(1, 1))));
+    return det >= 1.0 / kMaxWarpArea && det <= kMaxWarpArea && biggest <= kMaxWarpEntry;
+}
+
+// A's window around pixel_a (which windowInside has checked), row-major.
+void sampleTemplate(const ImageView<const std::uint8_t>& img, const Vec2& a, double* values) noexcept {
+    std::int32_t i = 0;
+    for (std::int32_t v = -kHalf; v <= kHalf; ++v) {
+        for (std::int32_t u = -kHalf; u <= kHalf; ++u) {
+            values[i] = sample(img, a.x() + static_cast<double>(u), a.y() + static_cast<double>(v));
+            ++i;
+        }
+    }
+}
+
+// Normal equations J^T J d = -J^T e of one Gauss-Newton step, e = B(b + W u) - gain A - offset.
+void normalEquations(const ImageView<const std::uint8_t>& img_b, const double* values_a, const Params& p, Mat8& jtj,
+                     Vec8& jtr) noexcept {
+    jtj.setZero();
+    jtr.setZero();
+    std::int32_t i = 0;
+    for (std::int32_t v = -kHalf; v <= kHalf; ++v) {
+        for (std::int32_t u = -kHalf; u <= kHalf; ++u) {
+            const double du = static_cast<double>(u), dv = static_cast<double>(v);
+            const Vec2 q = p.b + p.warp * Vec2(du, dv);
+            const double ib = sample(img_b, q.x(), q.y());
+            const double gx = sample(img_b, q.x() + kGradientStep_px, q.y()) - sample(img_b, q.x() - kGradientStep_px, q.y());
+            const double gy = sample(img_b, q.x(), q.y() + kGradientStep_px) - sample(img_b, q.x(), q.y() - kGradientStep_px);
+            const double ia = values_a[i];
+            ++i;
+            const double j[kParams] = {gx, gy, gx * du, gx * dv, gy * du, gy * dv, -ia, -1.0};
+            const double e = ib - (p.gain * ia + p.offset);
+            for (std::int32_t r = 0; r < kParams; ++r) {
+                for (std::int32_t c = r; c < kParams; ++c) {
+                    jtj(r, c) += j[r] * j[c];
+                }
+                jtr(r) += j[r] * e;
+            }
+        }
+    }
+    for (std::int32_t r = 1; r < kParams; ++r) {
+        for (std::int32_t c = 0; c < r; ++c) {
+            jtj(r, c) = jtj(c, r);
+        }
+    }
+}
+
+// NCC of A's window with B's warped window at p; -1 when either is flat.
+double windowNcc(const ImageView<const std::uint8_t>& img_b, const double* values_a, const Params& p) noexcept {
+    double sa = 0.0, sb = 0.0, saa = 0.0, sbb = 0.0, sab = 0.0;
+    std::int32_t i = 0;
+    for (std::int32_t v = -kHalf; v <= kHalf; ++v) {
+        for (std::int32_t u = -kHalf; u <= kHalf; ++u) {
+            const Vec2 q = p.b + p.warp * Vec2(static_cast<double>(u), static_cast<double>(v));
+            const double ib = sample(img_b, q.x(), q.y());
+            const double ia = values_a[i];
+            ++i;
+            sa += ia;
+            sb += ib;
+            saa += ia * ia;
+            sbb += ib * ib;
+            sab += ia * ib;
+        }
+    }
+    const double n = static_cast<double>(kSamples);
+    const double var_a = n * saa - sa * sa;
+    const double var_b = n * sbb - sb * sb;
+    if (!(var_a > 0.0 && var_b > 0.0)) {
+        return -1.0;
+    }
+    return (n * sab - sa * sb) / math::sqrt(var_a * var_b);
+}
+
+// Solves m d = -r for a symmetric m by Cholesky (m = L L^T, in place in m's lower
+// triangle). False when m is not positive definite (a pivot <= 1e-12 of the largest
+// diagonal entry, or not finite) or d is not finite.
+bool solveCholesky(Mat8& m, const Vec8& r, Vec8& d) noexcept {
+    const double scale = m.diagonal().maxCoeff();
+    if (!(scale > 0.0 && math::isFinite(scale))) {
+        return false;
+    }
+    for (std::int32_t j = 0; j < kParams; ++j) {
+        double pivot = m(j, j);
+        for (std::int32_t k = 0; k < j; ++k) {
+            pivot -= m(j, k) * m(j, k);
+        }
+        if (!(pivot > 1.0e-12 * scale)) {
+            return false;
+        }
+        m(j, j) = math::sqrt(pivot);
+        for (std::int32_t i = j + 1; i < kParams; ++i) {
+            double v = m(i, j);
+            for (std::int32_t k = 0; k < j; ++k) {
+                v -= m(i, k) * m(j, k);
+            }
+            m(i, j) = v / m(j, j);
+        }
+    }
+    for (std::int32_t i = 0; i < kParams; ++i) {  // L y = -r
+        double v = -r(i);
+        for (std::int32_t k = 0; k < i; ++k) {
+            v -= m(i, k) * d(k);
+        }
+        d(i) = v / m(i, i);
+    }
+    for (std::int32_t i = kParams - 1; i >= 0; --i) {  // L^T d = y
+        double v = d(i);
+        for (std::int32_t k = i + 1; k < kParams; ++k) {
+            v -= m(k, i) * d(k);
+        }
+        d(i) = v / m(i, i);
+    }
+    return math::isFinite(d.squaredNorm());
+}
+
+// Gauss-Newton on p; returns kAccepted when it ended with a usable warp inside image B
+// (the acceptance tests on shift and score follow in refineAffine).
+AffineOutcome fit(const ImageView<const std::uint8_t>& img_b, const double* values_a, const AffineRefineConfig& c,
+                  Params& p, std::int32_t& steps) noexcept {
+    Mat8 jtj;
+    Vec8 jtr;
+    for (steps = 0; steps < c.max_steps;) {
+        normalEquations(img_b, values_a, p, jtj, jtr);
+        Vec8 d;
+        if (!solveCholesky(jtj, jtr, d)) {
+            return AffineOutcome::kSingular;
+        }
+        ++steps;
+        p.b += Vec2(d(0), d(1));
+        p.warp(0, 0) += d(2);
+        p.warp(0, 1) += d(3);
+        p.warp(1, 0) += d(4);
+        p.warp(1, 1) += d(5);
+        p.gain += d(6);
+        p.offset += d(7);
+        if (!warpUsable(p.warp)) {
+            return AffineOutcome::kBadWarp;
+        }
+        if (!windowInside(img_b, p.b, p.warp, kGradientStep_px)) {
+            return AffineOutcome::kLeftImage;
+        }
+        if (d(0) * d(0) + d(1) * d(1) < kAffineConvergence_px * kAffineConvergence_px) {
+            break;
+        }
+    }
+    return AffineOutcome::kAccepted;
+}
+
+bool finite(const Vec2& v) noexcept { return math::isFinite(v.x()) && math::isFinite(v.y()); }
+
+}  // namespace
+
+Status AffineRefineConfig::validate() const noexcept {
+    if (max_steps < 1 || max_steps > kAffineMaxSteps) {
+        return Status(StatusCode::kInvalidConfig, "AffineRefineConfig.max_steps: must be 1..50", max_steps);
+    }
+    if (!(math::isFinite(max_shift_px) && max_shift_px > 0.0)) {
+        return Status(StatusCode::kInvalidConfig, "AffineRefineConfig.max_shift_px: must be > 0 and finite");
+    }
+    if (!(min_score >= -1.f && min_score <= 1.f)) {
+        return Status(StatusCode::kInvalidConfig, "AffineRefineConfig.min_score: must be in [-1, 1]");
+    }
+    return Status::ok();
+}
+
+Status refineAffine(const ImageView<const std::uint8_t>& image_a, const ImageView<const std::uint8_t>& image_b,
+                    const Vec2& pixel_a, const Vec2& pixel_b, const Mat2& warp, const AffineRefineConfig& config,
+                    AffineMatch& out) noexcept {
+    out = AffineMatch{};
+    out.pixel_b = pixel_b;
+    VTM_RETURN_IF_ERROR(config.validate());
+    if (!image_a.valid() || !image_b.valid()) {
+        return Status(StatusCode::kInvalidArgument, "refineAffine: image_a or image_b is empty or malformed");
+    }
+    if (!finite(pixel_a) || !finite(pixel_b)) {
+        return Status(StatusCode::kInvalidArgument, "refineAffine: pixel_a or pixel_b is not finite");
+    }
+    if (!math::isFinite(warp.squaredNorm())) {
+        return Status(StatusCode::kInvalidArgument, "refineAffine: warp is not finite");
+    }
+    out.warp = warp;
+    if (!windowInside(image_a, pixel_a, Mat2::Identity(), 0.0) ||
+        !windowInside(image_b, pixel_b, warp, kGradientStep_px)) {
+        out.outcome = AffineOutcome::kLeftImage;
+        return Status::ok();
+    }
+    if (!warpUsable(warp)) {
+        out.outcome = AffineOutcome::kBadWarp;
+        return Status::ok();
+    }
+    double values_a[kSamples];
+    sampleTemplate(image_a, pixel_a, values_a);
+    Params p;
+    p.b = pixel_b;
+    p.warp = warp;
+    out.outcome = fit(image_b, values_a, config, p, out.steps);
+    if (out.outcome != AffineOutcome::kAccepted) {
+        return Status::ok();
+    }
+    out.warp = p.warp;
+    out.gain = p.gain;
+    out.offset = p.offset;
+    out.score = windowNcc(image_b, values_a, p);
+    if ((p.b - pixel_b).squaredNorm() > config.max_shift_px * config.max_shift_px) {
+        out.outcome = AffineOutcome::kMovedTooFar;
+    } else if (out.score < static_cast<double>(config.min_score)) {
+        out.outcome = AffineOutcome::kLowScore;
+    } else {
+        out.pixel_b = p.b;
+    }
+    return Status::ok();
+}
+
+}  // namespace vtm::features
