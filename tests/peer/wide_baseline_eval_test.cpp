@@ -73,7 +73,7 @@ struct CaseResult {
     struct Draw {
         VerticalDisparity vd_odo;
         PoseEval vtm;
-        PoseEval vtm_lk;  // the same matches after the affine Lucas-Kanade prototype, refined again
+        PoseEval vtm_lk;  // the same matches after a second affine Lucas-Kanade pass (prototype), refined again
         int correct_matches = 0;
     };
     PoseEval vtm_lk;  // draw 0 (the sweep's own), likewise
@@ -135,8 +135,10 @@ void evaluateMatches(const RenderedPair& pair, const std::vector<Correspondence>
     }
 }
 
-// The front end's matches after the affine Lucas-Kanade prototype (refineMatchesAffineLk,
-// warps from the front end's refined pose), refined again from the odometry.
+// A second affine Lucas-Kanade pass (test-code prototype refineMatchesAffineLk): the
+// front end's matches, already refined by the flight matcher's LK from the odometry
+// warps, refined again from the ground-plane warps of the front end's refined pose; then
+// the refiner again from the odometry.
 PoseEval withLkPrototype(const RenderedPair& pair, const std::vector<Correspondence>& corr,
                          const RelativePose& odometry, const FrontEndResult& fe) {
     PoseEval e;
@@ -399,8 +401,8 @@ bool meetsTargets(const VerticalDisparity& odo, const PoseEval& e) {
 
 void printExtraDraws(const std::vector<CaseResult>& cases) {
     std::printf("\n#### VTM front end over %d odometry draws per case (baselines up to %.0f m; vd RMS px, odometry ->"
-                " refined; LK = the matches after the affine Lucas-Kanade prototype, refined again; * = misses a"
-                " target)\n\n| seed | B m | conv |",
+                " refined; pass 2 = the matches after a second affine Lucas-Kanade pass from the refined pose"
+                " (test-code prototype), refined again; * = misses a target)\n\n| seed | B m | conv |",
                 kExtraDraws + 1, kExtraDrawsMaxBaseline_m);
     for (int k = 0; k <= kExtraDraws; ++k) {
         std::printf(" draw %d |", k);
@@ -411,7 +413,7 @@ void printExtraDraws(const std::vector<CaseResult>& cases) {
     }
     std::printf("\n");
     std::map<double, std::pair<int, int>> per_baseline;  // met, total
-    std::map<double, int> per_baseline_lk;                // met with the LK prototype
+    std::map<double, int> per_baseline_lk;                // met after a second LK pass
     const auto cell = [&](double b, const VerticalDisparity& odo, const PoseEval& e, const PoseEval& e_lk,
                           int correct) {
         const bool met = meetsTargets(odo, e);
@@ -421,7 +423,7 @@ void printExtraDraws(const std::vector<CaseResult>& cases) {
         ++n;
         per_baseline_lk[b] += met_lk ? 1 : 0;
         char v[32], v_lk[32];
-        std::printf(" %.2f -> %s%s (%d correct); LK %s%s |", odo.rms_px, fmt(vdv(e), v, "%.3f"), met ? "" : " *",
+        std::printf(" %.2f -> %s%s (%d correct); pass 2 %s%s |", odo.rms_px, fmt(vdv(e), v, "%.3f"), met ? "" : " *",
                     correct, fmt(vdv(e_lk), v_lk, "%.3f"), met_lk ? "" : " *");
     };
     for (const CaseResult& c : cases) {
@@ -438,7 +440,7 @@ void printExtraDraws(const std::vector<CaseResult>& cases) {
     }
     std::printf("\n");
     for (const auto& [b, mn] : per_baseline) {
-        std::printf("- %.0f m: %d of %d draws meet both targets; with the LK prototype %d\n", b, mn.first, mn.second,
+        std::printf("- %.0f m: %d of %d draws meet both targets; with a second LK pass %d\n", b, mn.first, mn.second,
                     per_baseline_lk[b]);
     }
 }

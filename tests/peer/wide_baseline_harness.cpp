@@ -12,6 +12,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
+#include "vtm/features/affine_refine.hpp"
 #include "vtm/features/forstner.hpp"
 #include "vtm/features/template_matcher.hpp"
 #include "vtm/features/visibility.hpp"
@@ -670,8 +671,6 @@ void noisyTrueMatches(const std::vector<Correspondence>& corr, std::size_t count
 
 namespace {
 
-using Mat2 = Eigen::Matrix<double, 2, 2>;
-
 // Local affine (B pixel offsets per A pixel offset) of the homography that the plane
 // up . X = -height (A's frame) induces under `pose`, at A's pixel a.
 Mat2 groundPlaneAffine(const CameraModel& m, const RelativePose& pose, const Vec3& up, double height,
@@ -689,89 +688,29 @@ Mat2 groundPlaneAffine(const CameraModel& m, const RelativePose& pose, const Vec
     return j;
 }
 
-// One match: B's pixel b refined in place; false if a window leaves an image or the
-// normal equations fail. ncc: normalised correlation at the result.
-bool affineLk(const RenderedPair& pair, const Vec2& a, Vec2& b, Mat2 warp, double& ncc) {
-    constexpr int kHalf = 7;
-    constexpr int kSteps = 20;
-    const int w = pair.width, h = pair.height;
-    double gain = 1.0, offset = 0.0;
-    using Vec8 = Eigen::Matrix<double, 8, 1>;
-    for (int step = 0; step < kSteps; ++step) {
-        Eigen::Matrix<double, 8, 8> jtj = Eigen::Matrix<double, 8, 8>::Zero();
-        Vec8 jtr = Vec8::Zero();
-        for (int v = -kHalf; v <= kHalf; ++v) {
-            for (int u = -kHalf; u <= kHalf; ++u) {
-                const double ia = bilinear(pair.image_a, w, h, a.x() + u, a.y() + v);
-                const Vec2 q = b + warp * Vec2(u, v);
-                const double ib = bilinear(pair.image_b, w, h, q.x(), q.y());
-                const double gx = bilinear(pair.image_b, w, h, q.x() + 0.5, q.y()) -
-                                  bilinear(pair.image_b, w, h, q.x() - 0.5, q.y());
-                const double gy = bilinear(pair.image_b, w, h, q.x(), q.y() + 0.5) -
-                                  bilinear(pair.image_b, w, h, q.x(), q.y() - 0.5);
-                if (std::isnan(ia) || std::isnan(ib) || std::isnan(gx) || std::isnan(gy)) {
-                    return false;
-                }
-                Vec8 j;
-                j << gx, gy, gx * u, gx * v, gy * u, gy * v, -ia, -1.0;
-                jtj += j * j.transpose();
-                jtr += j * (ib - (gain * ia + offset));
-            }
-        }
-        const Vec8 d = jtj.ldlt().solve(-jtr);
-        if (!d.allFinite()) {
-            return false;
-        }
-        b += Vec2(d(0), d(1));
-        warp(0, 0) += d(2);
-        warp(0, 1) += d(3);
-        warp(1, 0) += d(4);
-        warp(1, 1) += d(5);
-        gain += d(6);
-        offset += d(7);
-        if (std::hypot(d(0), d(1)) < 1.0e-3) {
-            break;
-        }
-    }
-    NccSums sums;
-    for (int v = -kHalf; v <= kHalf; ++v) {
-        for (int u = -kHalf; u <= kHalf; ++u) {
-            const double ia = bilinear(pair.image_a, w, h, a.x() + u, a.y() + v);
-            const Vec2 q = b + warp * Vec2(u, v);
-            const double ib = bilinear(pair.image_b, w, h, q.x(), q.y());
-            if (std::isnan(ia) || std::isnan(ib)) {
-                return false;
-            }
-            sums.add(ia, ib);
-        }
-    }
-    ncc = sums.value();
-    ncc = std::isnan(ncc) ? -1.0 : ncc;  // a flat window is no match
-    return true;
-}
-
 }  // namespace
 
 LkRefinedMatches refineMatchesAffineLk(const RenderedPair& pair, const RelativePose& pose, double camera_height_m,
                                        const std::vector<Vec2>& pixels_a, const std::vector<Vec2>& pixels_b) {
-    constexpr double kMaxMove_px = 2.0;
-    constexpr double kMinNcc = 0.7;
     LkRefinedMatches r;
+    const ImageView<const std::uint8_t> ia(pair.image_a.data(), pair.width, pair.height);
+    const ImageView<const std::uint8_t> ib(pair.image_b.data(), pair.width, pair.height);
     const Vec3 up = pair.pose_a.R_site_from_ref.transpose() * Vec3(0.0, 0.0, -1.0);
+    const features::AffineRefineConfig config;  // 20 steps, 2 px, NCC 0.7
     for (std::size_t i = 0; i < pixels_a.size() && i < pixels_b.size(); ++i) {
         Mat2 warp = groundPlaneAffine(pair.model, pose, up, camera_height_m, pixels_a[i]);
         const double det = warp.determinant();
         if (!(det > 0.2 && det < 5.0)) {
             warp = Mat2::Identity();  // the plane does not describe this view (sky, behind)
         }
-        Vec2 b = pixels_b[i];
-        double ncc = -1.0;
-        if (!affineLk(pair, pixels_a[i], b, warp, ncc) || (b - pixels_b[i]).norm() > kMaxMove_px || ncc < kMinNcc) {
+        features::AffineMatch am;
+        if (!features::refineAffine(ia, ib, pixels_a[i], pixels_b[i], warp, config, am).isOk() ||
+            am.outcome != features::AffineOutcome::kAccepted) {
             ++r.dropped;
             continue;
         }
         r.pixels_a.push_back(pixels_a[i]);
-        r.pixels_b.push_back(b);
+        r.pixels_b.push_back(am.pixel_b);
     }
     return r;
 }

@@ -167,13 +167,12 @@ struct FrontEndSpec {
 [[nodiscard]] FrontEndResult runVtmFrontEnd(const RenderedPair& pair, const RelativePose& odometry,
                                             const FrontEndSpec& spec);
 
-// Prototype, not a flight algorithm (docs/wide-baseline-evaluation.md, finding 2): affine
-// Lucas-Kanade refinement of each match's B pixel. Forward-additive Gauss-Newton over B's
-// position, a 2x2 affine map and gain/offset (8 parameters) on a 15 x 15 window of A, at
-// most 20 steps. The map starts from the local affine of the ground-plane homography
-// (site up from A's attitude, a plane camera_height_m below A) under `pose`. A match that
-// moves more than 2 px or ends with NCC < 0.7 is dropped. Pinhole models only (no
-// distortion).
+// Prototype of a second pass, not a flight algorithm (docs/wide-baseline-evaluation.md,
+// finding 2): each match's B pixel refined again by the flight refineAffine (default
+// AffineRefineConfig: 20 steps, 2 px, NCC 0.7), its affine map started from the local
+// affine of the ground-plane homography (site up from A's attitude, a plane
+// camera_height_m below A) under `pose` (the refined pose). A match that is not accepted
+// is dropped. Pinhole models only (no distortion).
 struct LkRefinedMatches {
     std::vector<Vec2> pixels_a, pixels_b;
     int dropped = 0;
