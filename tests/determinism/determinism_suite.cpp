@@ -404,6 +404,7 @@ void hashMotion(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, const 
     for (const double c : result.covariance) {
         h.addDouble(c);
     }
+    h.addDouble(result.epipolar_sigma_px);
     h.addI64(result.inliers);
 }
 

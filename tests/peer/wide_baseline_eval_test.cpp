@@ -52,6 +52,8 @@ struct PoseEval {
     std::string error;
     double rot_deg = NAN, dir_deg = NAN;
     VerticalDisparity vd_vtm, vd_cv;  // VTM Rectifier / OpenCV stereoRectify on this pose
+    // VTM refine only: the refiner's own prediction of vd (MotionResult::epipolar_sigma_px).
+    double epipolar_sigma_px = NAN;
 };
 
 struct CaseResult {
@@ -73,10 +75,8 @@ struct CaseResult {
     struct Draw {
         VerticalDisparity vd_odo;
         PoseEval vtm;
-        PoseEval vtm_lk;  // the same matches after a second affine Lucas-Kanade pass (prototype), refined again
         int correct_matches = 0;
     };
-    PoseEval vtm_lk;  // draw 0 (the sweep's own), likewise
     std::vector<Draw> extra;
 };
 
@@ -121,6 +121,7 @@ void evaluateMatches(const RenderedPair& pair, const std::vector<Correspondence>
     const RefineResult rr = refinePose(pair, odometry, pa, pb);
     if (rr.ok) {
         vtm = evaluatePose(pair, corr, rr.pose);
+        vtm.epipolar_sigma_px = rr.epipolar_sigma_px;
         if (inliers != nullptr) {
             *inliers = rr.inliers;
         }
@@ -133,27 +134,6 @@ void evaluateMatches(const RenderedPair& pair, const std::vector<Correspondence>
     } else {
         cv.error = "findEssentialMat/recoverPose: no pose";
     }
-}
-
-// A second affine Lucas-Kanade pass (test-code prototype refineMatchesAffineLk): the
-// front end's matches, already refined by the flight matcher's LK from the odometry
-// warps, refined again from the ground-plane warps of the front end's refined pose; then
-// the refiner again from the odometry.
-PoseEval withLkPrototype(const RenderedPair& pair, const std::vector<Correspondence>& corr,
-                         const RelativePose& odometry, const FrontEndResult& fe) {
-    PoseEval e;
-    if (!fe.ok) {
-        e.error = fe.error;
-        return e;
-    }
-    const LkRefinedMatches lk =
-        refineMatchesAffineLk(pair, fe.refined, FrontEndSpec{}.camera_height_m, fe.pixels_a, fe.pixels_b);
-    const RefineResult rr = refinePose(pair, odometry, lk.pixels_a, lk.pixels_b);
-    if (!rr.ok) {
-        e.error = rr.error;
-        return e;
-    }
-    return evaluatePose(pair, corr, rr.pose);
 }
 
 constexpr std::size_t kOracleMatches = 300U;
@@ -203,7 +183,6 @@ CaseResult runCase(const World& world, std::uint64_t seed, double baseline_m, do
     c.ceiling_correct =
         bestNccOnTrueLine(pair, fe.feature_pixels, spec_default.range_min_m, spec_default.range_max_m).correct;
     if (baseline_m <= kExtraDrawsMaxBaseline_m) {
-        c.vtm_lk = withLkPrototype(pair, corr, c.odo.pose, fe);
         for (int k = 1; k <= kExtraDraws; ++k) {
             CaseResult::Draw d;
             const OdometryCase odo =
@@ -213,7 +192,7 @@ CaseResult runCase(const World& world, std::uint64_t seed, double baseline_m, do
             d.correct_matches = fk.correct_matches;
             if (fk.ok) {
                 d.vtm = evaluatePose(pair, corr, fk.refined);
-                d.vtm_lk = withLkPrototype(pair, corr, odo.pose, fk);
+                d.vtm.epipolar_sigma_px = fk.refine_epipolar_sigma_px;
             } else {
                 d.vtm.error = fk.error;
             }
@@ -401,8 +380,7 @@ bool meetsTargets(const VerticalDisparity& odo, const PoseEval& e) {
 
 void printExtraDraws(const std::vector<CaseResult>& cases) {
     std::printf("\n#### VTM front end over %d odometry draws per case (baselines up to %.0f m; vd RMS px, odometry ->"
-                " refined; pass 2 = the matches after a second affine Lucas-Kanade pass from the refined pose"
-                " (test-code prototype), refined again; * = misses a target)\n\n| seed | B m | conv |",
+                " refined; * = misses a target; predicted = the refiner's epipolar_sigma_px)\n\n| seed | B m | conv |",
                 kExtraDraws + 1, kExtraDrawsMaxBaseline_m);
     for (int k = 0; k <= kExtraDraws; ++k) {
         std::printf(" draw %d |", k);
@@ -413,18 +391,14 @@ void printExtraDraws(const std::vector<CaseResult>& cases) {
     }
     std::printf("\n");
     std::map<double, std::pair<int, int>> per_baseline;  // met, total
-    std::map<double, int> per_baseline_lk;                // met after a second LK pass
-    const auto cell = [&](double b, const VerticalDisparity& odo, const PoseEval& e, const PoseEval& e_lk,
-                          int correct) {
+    const auto cell = [&](double b, const VerticalDisparity& odo, const PoseEval& e, int correct) {
         const bool met = meetsTargets(odo, e);
-        const bool met_lk = meetsTargets(odo, e_lk);
         auto& [m, n] = per_baseline[b];
         m += met ? 1 : 0;
         ++n;
-        per_baseline_lk[b] += met_lk ? 1 : 0;
-        char v[32], v_lk[32];
-        std::printf(" %.2f -> %s%s (%d correct); pass 2 %s%s |", odo.rms_px, fmt(vdv(e), v, "%.3f"), met ? "" : " *",
-                    correct, fmt(vdv(e_lk), v_lk, "%.3f"), met_lk ? "" : " *");
+        char v[32], p[32];
+        std::printf(" %.2f -> %s%s (%d correct; predicted %s) |", odo.rms_px, fmt(vdv(e), v, "%.3f"), met ? "" : " *",
+                    correct, fmt(e.ok ? e.epipolar_sigma_px : NAN, p, "%.3f"));
     };
     for (const CaseResult& c : cases) {
         if (c.extra.empty()) {
@@ -432,16 +406,67 @@ void printExtraDraws(const std::vector<CaseResult>& cases) {
         }
         std::printf("| %llu | %.0f | %.0f |", static_cast<unsigned long long>(c.seed), c.baseline_m,
                     c.convergence_deg);
-        cell(c.baseline_m, c.vd_odo, c.vtm, c.vtm_lk, c.correct_matches);
+        cell(c.baseline_m, c.vd_odo, c.vtm, c.correct_matches);
         for (const CaseResult::Draw& d : c.extra) {
-            cell(c.baseline_m, d.vd_odo, d.vtm, d.vtm_lk, d.correct_matches);
+            cell(c.baseline_m, d.vd_odo, d.vtm, d.correct_matches);
         }
         std::printf("\n");
     }
     std::printf("\n");
     for (const auto& [b, mn] : per_baseline) {
-        std::printf("- %.0f m: %d of %d draws meet both targets; with a second LK pass %d\n", b, mn.first, mn.second,
-                    per_baseline_lk[b]);
+        std::printf("- %.0f m: %d of %d draws meet both targets\n", b, mn.first, mn.second);
+    }
+}
+
+// The refiner's prediction of vd (MotionResult::epipolar_sigma_px) against the measured vd,
+// over every VTM refinement: front end (all draws) and oracle matches. Per group the ratio
+// measured / predicted, and what a check "predicted <= limit" would keep and reject, by
+// whether the pose meets the targets.
+void printPredictedVd(const std::vector<CaseResult>& cases) {
+    struct Sample {
+        double predicted, measured;
+        bool met;
+    };
+    std::map<std::string, std::vector<Sample>> groups;
+    const auto add = [&](const std::string& g, const VerticalDisparity& odo, const PoseEval& e) {
+        if (e.ok && e.vd_vtm.ok && !std::isnan(e.epipolar_sigma_px)) {
+            groups[g].push_back({e.epipolar_sigma_px, e.vd_vtm.rms_px, meetsTargets(odo, e)});
+        }
+    };
+    for (const CaseResult& c : cases) {
+        char g[64];
+        std::snprintf(g, sizeof g, "front end, %.0f m", c.baseline_m);
+        add(g, c.vd_odo, c.vtm);
+        for (const CaseResult::Draw& d : c.extra) {
+            add(g, d.vd_odo, d.vtm);
+        }
+        add("oracle matches, 1-20 m", c.vd_odo, c.oracle_vtm);
+    }
+    const double limits[] = {0.05, 0.1, 0.25};
+    std::printf("\n#### Predicted vd (the refiner's epipolar_sigma_px) against measured vd\n\n| poses | n |"
+                " measured / predicted: median (min ... max) | meet targets |");
+    for (const double l : limits) {
+        std::printf(" predicted <= %.2f: kept met / rejected met / kept missed / rejected missed |", l);
+    }
+    std::printf("\n|---|---|---|---|---|---|---|\n");
+    for (const auto& [name, v] : groups) {
+        std::vector<double> ratio;
+        int met = 0;
+        for (const Sample& x : v) {
+            ratio.push_back(x.measured / x.predicted);
+            met += x.met ? 1 : 0;
+        }
+        const auto [lo, hi] = std::minmax_element(ratio.begin(), ratio.end());
+        std::printf("| %s | %zu | %.2f (%.2f ... %.2f) | %d |", name.c_str(), v.size(), medianOf(ratio), *lo, *hi, met);
+        for (const double l : limits) {
+            int k_met = 0, r_met = 0, k_miss = 0, r_miss = 0;
+            for (const Sample& x : v) {
+                const bool kept = x.predicted <= l;
+                (x.met ? (kept ? k_met : r_met) : (kept ? k_miss : r_miss)) += 1;
+            }
+            std::printf(" %d / %d / %d / %d |", k_met, r_met, k_miss, r_miss);
+        }
+        std::printf("\n");
     }
 }
 
@@ -493,6 +518,7 @@ TEST(WideBaselineEval, SweepPoseAndVerticalDisparityAgainstTruthAndOpenCV) {
     printWhoWins(cases, true);
     printSummary(cases);
     printExtraDraws(cases);
+    printPredictedVd(cases);
     for (const CaseResult& c : cases) {
         // The rectifier itself: with the true pose, true correspondences land on one row.
         EXPECT_LT(c.vd_truth.rms_px, 0.01);

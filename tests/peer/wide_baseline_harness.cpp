@@ -12,7 +12,6 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
-#include "vtm/features/affine_refine.hpp"
 #include "vtm/features/forstner.hpp"
 #include "vtm/features/template_matcher.hpp"
 #include "vtm/features/visibility.hpp"
@@ -615,6 +614,7 @@ FrontEndResult runVtmFrontEnd(const RenderedPair& pair, const RelativePose& odom
     }
     r.inliers = rr.inliers;
     r.refine_rms_px = rr.rms_px;
+    r.refine_epipolar_sigma_px = rr.epipolar_sigma_px;
     r.refined = rr.pose;
     r.ok = true;
     return r;
@@ -640,6 +640,7 @@ RefineResult refinePose(const RenderedPair& pair, const RelativePose& odometry, 
     }
     r.inliers = res.inliers;
     r.rms_px = res.rms_px;
+    r.epipolar_sigma_px = res.epipolar_sigma_px;
     r.pose.R_b_from_a = res.R_b_from_a;
     r.pose.t_b_from_a_m = res.t_b_from_a_m;
     r.ok = true;
@@ -665,54 +666,6 @@ void noisyTrueMatches(const std::vector<Correspondence>& corr, std::size_t count
         const double ny = noise(rng);
         pixels_b.push_back(corr[i].pixel_b + Vec2(nx, ny));
     }
-}
-
-// ---- affine Lucas-Kanade prototype -------------------------------------------------------
-
-namespace {
-
-// Local affine (B pixel offsets per A pixel offset) of the homography that the plane
-// up . X = -height (A's frame) induces under `pose`, at A's pixel a.
-Mat2 groundPlaneAffine(const CameraModel& m, const RelativePose& pose, const Vec3& up, double height,
-                       const Vec2& a) {
-    Mat3 k;
-    k << m.fx_px, 0.0, m.cx_px, 0.0, m.fy_px, m.cy_px, 0.0, 0.0, 1.0;
-    const Mat3 hm = k * (pose.R_b_from_a - pose.t_b_from_a_m * up.transpose() / height) * k.inverse();
-    const auto map = [&](const Vec2& q) {
-        const Vec3 v = hm * Vec3(q.x(), q.y(), 1.0);
-        return Vec2(v.x() / v.z(), v.y() / v.z());
-    };
-    Mat2 j;
-    j.col(0) = (map(a + Vec2(0.5, 0.0)) - map(a - Vec2(0.5, 0.0)));
-    j.col(1) = (map(a + Vec2(0.0, 0.5)) - map(a - Vec2(0.0, 0.5)));
-    return j;
-}
-
-}  // namespace
-
-LkRefinedMatches refineMatchesAffineLk(const RenderedPair& pair, const RelativePose& pose, double camera_height_m,
-                                       const std::vector<Vec2>& pixels_a, const std::vector<Vec2>& pixels_b) {
-    LkRefinedMatches r;
-    const ImageView<const std::uint8_t> ia(pair.image_a.data(), pair.width, pair.height);
-    const ImageView<const std::uint8_t> ib(pair.image_b.data(), pair.width, pair.height);
-    const Vec3 up = pair.pose_a.R_site_from_ref.transpose() * Vec3(0.0, 0.0, -1.0);
-    const features::AffineRefineConfig config;  // 20 steps, 2 px, NCC 0.7
-    for (std::size_t i = 0; i < pixels_a.size() && i < pixels_b.size(); ++i) {
-        Mat2 warp = groundPlaneAffine(pair.model, pose, up, camera_height_m, pixels_a[i]);
-        const double det = warp.determinant();
-        if (!(det > 0.2 && det < 5.0)) {
-            warp = Mat2::Identity();  // the plane does not describe this view (sky, behind)
-        }
-        features::AffineMatch am;
-        if (!features::refineAffine(ia, ib, pixels_a[i], pixels_b[i], warp, config, am).isOk() ||
-            am.outcome != features::AffineOutcome::kAccepted) {
-            ++r.dropped;
-            continue;
-        }
-        r.pixels_a.push_back(pixels_a[i]);
-        r.pixels_b.push_back(am.pixel_b);
-    }
-    return r;
 }
 
 // ---- OpenCV peers ---------------------------------------------------------------------

@@ -150,6 +150,7 @@ struct FrontEndResult {
     std::vector<Vec2> pixels_a, pixels_b;  // the matches (input to VTM refine and OpenCV)
     RelativePose refined{};
     double refine_rms_px = 0.0;
+    double refine_epipolar_sigma_px = 0.0;  // MotionResult::epipolar_sigma_px
     double seconds_detect = 0.0, seconds_match = 0.0, seconds_refine = 0.0;
 };
 struct FrontEndSpec {
@@ -167,20 +168,6 @@ struct FrontEndSpec {
 [[nodiscard]] FrontEndResult runVtmFrontEnd(const RenderedPair& pair, const RelativePose& odometry,
                                             const FrontEndSpec& spec);
 
-// Prototype of a second pass, not a flight algorithm (docs/wide-baseline-evaluation.md,
-// finding 2): each match's B pixel refined again by the flight refineAffine (default
-// AffineRefineConfig: 20 steps, 2 px, NCC 0.7), its affine map started from the local
-// affine of the ground-plane homography (site up from A's attitude, a plane
-// camera_height_m below A) under `pose` (the refined pose). A match that is not accepted
-// is dropped. Pinhole models only (no distortion).
-struct LkRefinedMatches {
-    std::vector<Vec2> pixels_a, pixels_b;
-    int dropped = 0;
-};
-[[nodiscard]] LkRefinedMatches refineMatchesAffineLk(const RenderedPair& pair, const RelativePose& pose,
-                                                     double camera_height_m, const std::vector<Vec2>& pixels_a,
-                                                     const std::vector<Vec2>& pixels_b);
-
 // MotionRefiner (default MotionConfig) from the odometry pose on given matches.
 struct RefineResult {
     bool ok = false;
@@ -188,6 +175,7 @@ struct RefineResult {
     RelativePose pose{};
     std::int32_t inliers = 0;
     double rms_px = 0.0;
+    double epipolar_sigma_px = 0.0;  // MotionResult::epipolar_sigma_px
 };
 [[nodiscard]] RefineResult refinePose(const RenderedPair& pair, const RelativePose& odometry,
                                       const std::vector<Vec2>& pixels_a, const std::vector<Vec2>& pixels_b);

@@ -274,6 +274,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| matches / inliers | %d / %d |\n"
                   "| rotation error against truth: odometry -> refined | %.3f -> %.3f deg |\n"
                   "| translation direction error: odometry -> refined | %.3f -> %.3f deg |\n"
+                  "| vertical disparity the refiner predicts after rectification | %.3f px |\n"
                   "| baseline length error (odometry, kept) | %+.2f %% |\n"
                   "| disparity window | %d..%d px (%d of the inliers inside) |\n"
                   "| disparities found / dropped as speckles / dropped by the ground bound | %d / %d / %d |\n"
@@ -283,7 +284,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| height map: cells / median abs error / mean error | %lld / %.3f m / %+.3f m |\n"
                   "| time of the request | %.2f s |\n\n",
                   p->matching.matched, p->motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
-                  m.dir_after_deg, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
+                  m.dir_after_deg, p->motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
                   p->features_in_window, p->stereo.valid_pixels + p->speckles, p->speckles, p->outside_window, p->triangulation.points,
                   m.range_pixels, 100.0 * static_cast<double>(m.range_pixels) / (range.width * range.height),
                   m.range_true_median_m, 100.0 * m.range_median, 100.0 * m.range_within5, m.cells, m.dz_median_m,

@@ -265,6 +265,7 @@ std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, con
                   "| reprojection RMS, refined (inliers) | %.3f px |\n"
                   "| rotation change from odometry | %.3f deg (1-sigma %.4f deg) |\n"
                   "| translation direction change | %.3f deg (1-sigma %.4f deg) |\n"
+                  "| predicted vertical disparity after rectification (epipolar 1-sigma) | %.3f px |\n"
                   "| baseline (kept from odometry) | %.4f m |\n"
                   "| LM iterations / passes | %d / %d |\n"
                   "| time: detect, match, refine | %.3f s, %.3f s, %.3f s |\n",
@@ -272,7 +273,8 @@ std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, con
                   run.detector_stats.candidates, static_cast<double>(features::MatcherConfig{}.min_score),
                   run.matches->count, run.match_stats.attempted, run.match_stats.no_region, run.match_stats.low_score,
                   run.match_stats.not_refined, run.match_stats.not_mutual, r.inliers, r.matches, r.initial_rms_px, r.rms_px, dR,
-                  r.rotation_sigma_rad * kRadToDeg, dT, r.direction_sigma_rad * kRadToDeg, r.t_b_from_a_m.norm(),
+                  r.rotation_sigma_rad * kRadToDeg, dT, r.direction_sigma_rad * kRadToDeg, r.epipolar_sigma_px,
+                  r.t_b_from_a_m.norm(),
                   r.iterations, r.passes, run.detect_s, run.match_s, run.refine_s);
     return t;
 }

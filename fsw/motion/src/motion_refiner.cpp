@@ -415,6 +415,32 @@ double MotionRefiner::inlierRms(const Motion& m) const noexcept {
 
 // -------------------------------------------------------------------- the result --
 
+// The motion's uncertainty seen across the epipolar lines: for each inlier, the part of
+// its B pixel's motion Jacobian perpendicular to the direction in which its range moves
+// it (that part a range cannot absorb: it is what rectification turns into vertical
+// disparity), n^T J_m C J_m^T n; the root of the mean over the inliers.
+double MotionRefiner::epipolarSigma(const Motion& m, const Mat5& cov) const noexcept {
+    double sum2 = 0.0;
+    std::int32_t n = 0;
+    for (std::int32_t i = 0; i < count_; ++i) {
+        Vec2 r;
+        Mat25 jm;
+        Vec2 jr;
+        if (inlier_[i] == 0U || !residualAndJacobian(m, i, rho_[i], r, jm, jr)) {
+            continue;
+        }
+        const double len = math::sqrt(jr.dot(jr));
+        if (!(len > 0.0)) {
+            continue;  // a range that does not move the pixel: no epipolar direction
+        }
+        const Vec2 normal(-jr.y() / len, jr.x() / len);
+        const Vec5 a = jm.transpose() * normal;
+        sum2 += a.dot(cov * a);
+        ++n;
+    }
+    return (n > 0) ? math::sqrt(sum2 / static_cast<double>(n)) : 0.0;
+}
+
 Status MotionRefiner::finish(const Motion& m, MotionResult& result) noexcept {
     Normal normal;
     if (!buildNormal(m, false, normal)) {
@@ -451,6 +477,7 @@ Status MotionRefiner::finish(const Motion& m, MotionResult& result) noexcept {
     }
     result.rotation_sigma_rad = math::sqrt(cov(0, 0) + cov(1, 1) + cov(2, 2));
     result.direction_sigma_rad = math::sqrt(cov(3, 3) + cov(4, 4));
+    result.epipolar_sigma_px = epipolarSigma(m, cov);
     result.R_b_from_a = m.R;
     result.t_b_from_a_m = m.baseline_m * m.u;
     return Status::ok();

@@ -85,6 +85,12 @@ struct MotionResult {
     // expected angle between the refined and the true direction), radians.
     double rotation_sigma_rad = 0.0;
     double direction_sigma_rad = 0.0;
+    // The covariance seen in B's image: the RMS over the final inliers of the 1-sigma
+    // distance by which the motion's uncertainty moves each inlier across its epipolar
+    // line (the direction its range cannot absorb), pixels. Rectification turns that
+    // distance into vertical disparity, so it predicts the RMS vertical disparity of the
+    // rectified pair from the refiner's own statistics (docs/motion.md).
+    double epipolar_sigma_px = 0.0;
     std::int32_t matches = 0;             // input matches
     std::int32_t inliers = 0;             // final inliers (see refine())
     std::int32_t iterations = 0;          // LM trial steps, all passes
@@ -145,6 +151,7 @@ private:
     [[nodiscard]] std::int32_t classify(const Motion& m, bool& changed) noexcept;
     [[nodiscard]] Status finish(const Motion& m, MotionResult& result) noexcept;
     [[nodiscard]] double inlierRms(const Motion& m) const noexcept;
+    [[nodiscard]] double epipolarSigma(const Motion& m, const Eigen::Matrix<double, 5, 5>& cov) const noexcept;
 
     [[nodiscard]] double priorWeight() const noexcept;
     const CameraModel* model_b_ = nullptr;
