@@ -362,17 +362,22 @@ Eigen::Matrix<double, 5, 1> errorVector(const MotionResult& r, const Mat3& R_tru
     return e;
 }
 
+// One Monte Carlo draw of the covariance tests: 60 matches, pinhole, default noise.
+Scene monteCarloScene(std::uint64_t seed, bool noise_in_a) {
+    SceneSpec spec;
+    spec.seed = seed;
+    spec.matches = 60;
+    spec.noise_in_a = noise_in_a;
+    return makeScene(pinhole(), spec);
+}
+
 // Mean normalised estimation error e^T C^-1 e over 50 seeds of 60 matches.
 double meanNormalisedError(bool noise_in_a) {
     double sum = 0.0;
     int runs = 0;
     double sigma_rot_sum = 0.0, rot_err2_sum = 0.0;
     for (std::uint64_t seed = 100U; seed < 150U; ++seed) {
-        SceneSpec spec;
-        spec.seed = seed;
-        spec.matches = 60;
-        spec.noise_in_a = noise_in_a;
-        const Scene s = makeScene(pinhole(), spec);
+        const Scene s = monteCarloScene(seed, noise_in_a);
         const RefineRun run = runRefine(s);
         EXPECT_TRUE(run.status.isOk()) << run.status.reason();
         Eigen::Matrix<double, 5, 5> c;
@@ -438,11 +443,7 @@ TEST(MotionRefiner, EpipolarSigmaPredictsTheEpipolarErrorOfTrueCorrespondences) 
     double measured2 = 0.0, predicted2 = 0.0;
     int runs = 0;
     for (std::uint64_t seed = 200U; seed < 250U; ++seed) {
-        SceneSpec spec;
-        spec.seed = seed;
-        spec.matches = 60;
-        spec.noise_in_a = false;
-        const Scene s = makeScene(pinhole(), spec);
+        const Scene s = monteCarloScene(seed, false);
         const RefineRun run = runRefine(s);
         ASSERT_TRUE(run.status.isOk()) << run.status.reason();
         ASSERT_GT(run.result.epipolar_sigma_px, 0.0);
