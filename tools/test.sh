@@ -87,7 +87,7 @@ build_preset() { cmake --preset "$@" > "build/configure-$1.log" 2>&1 || { cat "b
 # short that whole-mission check (and the 90 s of compiler time the tools cost per
 # target) runs on the two flight-class processors, RAD750 (ppc750) and LEON3; the
 # little-endian targets run every module test and the determinism suite, which compare
-# each module's bits with the host's (docs/testing.md "CI time"). A developer's
+# each module's bits with the host's (docs/build.md "CI time"). A developer's
 # `cmake --preset aarch64` still builds the tools.
 cross_args() {
   case "$1" in
