@@ -13,10 +13,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -485,25 +487,66 @@ void expectTargets(const CaseResult& c, const VerticalDisparity& vd_odo, const P
     // (docs/wide-baseline-evaluation.md), while the rows (what rectification needs) stay right.
 }
 
+// Runs the cases on one thread per core (test code; each case reads its seed's World and
+// writes only its own result): the worlds are built first, one thread per seed, then the
+// threads take cases from a shared counter. The cases come back in the serial order with
+// the same bits whatever the thread count (each case's odometry draw comes from its own
+// seed, OpenCV's RANSAC generator is per thread and reset before each call).
 std::vector<CaseResult> runSweep() {
-    std::vector<CaseResult> cases;
-    for (const std::uint64_t seed : kSeeds) {
-        World world;
-        std::string error;
-        WorldSpec ws;
-        ws.seed = seed;
-        if (!buildWorld(kScenario, ws, world, error)) {
-            ADD_FAILURE() << error;
-            return cases;
+    constexpr std::size_t kSeedCount = std::size(kSeeds);
+    constexpr std::size_t kPerSeed = std::size(kBaselines_m) * std::size(kConvergences_deg);
+    const std::size_t threads = std::max(1U, std::thread::hardware_concurrency());
+    World worlds[kSeedCount];
+    std::string errors[kSeedCount];
+    bool built[kSeedCount] = {};
+    {
+        std::vector<std::thread> pool;
+        for (std::size_t i = 0U; i < kSeedCount; ++i) {
+            pool.emplace_back([&, i]() {
+                WorldSpec ws;
+                ws.seed = kSeeds[i];
+                built[i] = buildWorld(kScenario, ws, worlds[i], errors[i]);
+            });
         }
-        std::printf("seed %llu: terrain built in %.2f s\n", static_cast<unsigned long long>(seed),
-                    world.build_seconds);
-        for (const double b : kBaselines_m) {
-            for (const double conv : kConvergences_deg) {
-                cases.push_back(runCase(world, seed, b, conv));
-            }
+        for (std::thread& t : pool) {
+            t.join();
         }
     }
+    std::vector<CaseResult> slots(kSeedCount * kPerSeed);
+    std::atomic<std::size_t> next{0U};
+    const auto worker = [&]() {
+        for (std::size_t k = next++; k < slots.size(); k = next++) {
+            const std::size_t i = k / kPerSeed;
+            if (!built[i]) {
+                continue;
+            }
+            const double b = kBaselines_m[(k % kPerSeed) / std::size(kConvergences_deg)];
+            const double conv = kConvergences_deg[k % std::size(kConvergences_deg)];
+            slots[k] = runCase(worlds[i], kSeeds[i], b, conv);
+        }
+    };
+    {
+        std::vector<std::thread> pool;
+        for (std::size_t t = 1U; t < threads; ++t) {
+            pool.emplace_back(worker);
+        }
+        worker();
+        for (std::thread& t : pool) {
+            t.join();
+        }
+    }
+    std::vector<CaseResult> cases;
+    for (std::size_t i = 0U; i < kSeedCount; ++i) {
+        if (!built[i]) {
+            ADD_FAILURE() << "seed " << kSeeds[i] << ": " << errors[i];
+            continue;
+        }
+        std::printf("seed %llu: terrain built in %.2f s\n", static_cast<unsigned long long>(kSeeds[i]),
+                    worlds[i].build_seconds);
+        cases.insert(cases.end(), slots.begin() + static_cast<std::ptrdiff_t>(i * kPerSeed),
+                     slots.begin() + static_cast<std::ptrdiff_t>((i + 1U) * kPerSeed));
+    }
+    std::printf("sweep: %zu cases on %zu threads\n", slots.size(), threads);
     return cases;
 }
 
