@@ -5,7 +5,8 @@
 #   fuzz_camera_model   vtm::parseCameraModel (fsw/core)
 # Configures build/fuzz from tests/fuzz/CMakeLists.txt, writes a seed corpus per target
 # (valid inputs; Python's zlib.crc32 computes the link CRCs independently of our code),
-# runs each target for FUZZ_SECONDS (default 30) and prints executions and findings.
+# runs each target for FUZZ_SECONDS (default 30; FUZZ_JOBS of them at once, default the
+# number of cores) and prints executions and findings.
 # Exit 1 if any target found a crash, leak, timeout or sanitizer report.
 #
 #   tools/checks/fuzz.sh [SECONDS]        e.g. FUZZ_JOBS=1 tools/checks/fuzz.sh 60
@@ -79,8 +80,12 @@ write(f"{work}/cmod/corpus/cahvor", b"vtm_camera_model 1\nkind cahvor\nwidth_px 
       b"C 0.1 0 0\nA 0 0 1\nH 100 0 31.5\nV 0 100 23.5\nO 0 0.01 0.99995\nR 0 -0.1 0.01\n")
 PY
 
-status=0
-run() {  # name dir
+# Each target runs on a core of its own: up to FUZZ_JOBS (default: the number of cores)
+# at once, each for the full SECONDS, so running them side by side changes the wall time,
+# not the fuzzing each one gets. The reports are printed in a fixed order afterwards.
+jobs=${FUZZ_JOBS:-$(nproc)}
+[[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: FUZZ_JOBS must be a positive integer, got '$jobs'" >&2; exit 2; }
+run() {  # name dir: runs one target, writes its report line(s) to dir/report.txt and 0/1 to dir/status
   local name=$1 dir=$work/$2
   set +e
   "$build/$name" "$dir/corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
@@ -88,17 +93,34 @@ run() {  # name dir
   local rc=$?
   set -e
   local execs findings
-  execs=$(grep -m1 "stat::number_of_executed_units" "$dir/log.txt" | awk '{print $2}')
+  # (no stats line after a crash: grep fails, which must not end the run under pipefail)
+  execs=$(grep -m1 "stat::number_of_executed_units" "$dir/log.txt" | awk '{print $2}' || true)
   findings=$(find "$dir/artifacts" -type f | wc -l)
-  printf '%-18s %3ss  executions %-10s corpus %-5s findings %s (exit %s)\n' "$name" "$seconds" "${execs:-?}" \
-      "$(find "$dir/corpus" -type f | wc -l)" "$findings" "$rc"
-  if [[ $rc -ne 0 || $findings -ne 0 ]]; then
-    status=1
-    grep -m5 -E "ERROR|SUMMARY|runtime error" "$dir/log.txt" || true
-    find "$dir/artifacts" -type f | head -3
-  fi
+  {
+    printf '%-18s %3ss  executions %-10s corpus %-5s findings %s (exit %s)\n' "$name" "$seconds" "${execs:-?}" \
+        "$(find "$dir/corpus" -type f | wc -l)" "$findings" "$rc"
+    if [[ $rc -ne 0 || $findings -ne 0 ]]; then
+      grep -m5 -E "ERROR|SUMMARY|runtime error" "$dir/log.txt" || true
+      find "$dir/artifacts" -type f | head -3
+    fi
+  } > "$dir/report.txt"
+  if [[ $rc -ne 0 || $findings -ne 0 ]]; then echo 1 > "$dir/status"; else echo 0 > "$dir/status"; fi
 }
-run fuzz_link_decoder link
-run fuzz_file_readers file
-run fuzz_camera_model cmod
+targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod)
+running=0
+for t in "${targets[@]}"; do
+  if [[ $running -ge $jobs ]]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+  run "${t%%:*}" "${t##*:}" &
+  running=$((running + 1))
+done
+wait
+status=0
+for t in "${targets[@]}"; do
+  dir=$work/${t##*:}
+  cat "$dir/report.txt" 2>/dev/null || echo "${t%%:*}: no report"
+  [[ "$(cat "$dir/status" 2>/dev/null)" == 0 ]] || status=1
+done
 exit $status
