@@ -101,11 +101,22 @@ memcheck() {  # every host unit-test executable under valgrind: uninitialised re
   # abort); MathAccuracy.*: valgrind computes x87 long double at double precision, so their
   # high-precision reference is not one there; NoHeapGuard.*: valgrind replaces operator
   # new/delete with its own, so the guard's counters cannot see them there.
-  local rc=0 exe
+  # Up to JOBS executables at once (valgrind runs each on one core).
+  local rc=0 exe log
   for exe in "$1"/tests/vtm_*_tests; do
-    valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite \
-      "$exe" --gtest_filter='-*DeathTest*:MathAccuracy.*:NoHeapGuard.*' --gtest_brief=1 > "build/memcheck-$(basename "$exe").log" 2>&1 \
-      || { echo "memcheck: $exe"; tail -n 30 "build/memcheck-$(basename "$exe").log"; rc=1; }
+    log="build/memcheck-$(basename "$exe").log"
+    rm -f "$log.failed"
+    ( valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite \
+        "$exe" --gtest_filter='-*DeathTest*:MathAccuracy.*:NoHeapGuard.*' --gtest_brief=1 > "$log" 2>&1 \
+        || touch "$log.failed" ) &
+    while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do sleep 0.2; done
+  done
+  wait
+  for exe in "$1"/tests/vtm_*_tests; do
+    log="build/memcheck-$(basename "$exe").log"
+    if [ -e "$log.failed" ]; then
+      echo "memcheck: $exe"; tail -n 30 "$log"; rc=1
+    fi
   done
   return $rc
 }
