@@ -104,12 +104,12 @@ memcheck() {  # every host unit-test executable under valgrind: uninitialised re
   # Up to JOBS executables at once (valgrind runs each on one core).
   local rc=0 exe log
   for exe in "$1"/tests/vtm_*_tests; do
+    while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
     log="build/memcheck-$(basename "$exe").log"
     rm -f "$log.failed"
     ( valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite \
         "$exe" --gtest_filter='-*DeathTest*:MathAccuracy.*:NoHeapGuard.*' --gtest_brief=1 > "$log" 2>&1 \
         || touch "$log.failed" ) &
-    while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do sleep 0.2; done
   done
   wait
   for exe in "$1"/tests/vtm_*_tests; do

@@ -13,6 +13,8 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 seconds=${1:-${FUZZ_SECONDS:-30}}
+jobs=${FUZZ_JOBS:-$(nproc)}
+[[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: FUZZ_JOBS must be a positive integer, got '$jobs'" >&2; exit 2; }
 build=${FUZZ_BUILD_DIR:-$root/build/fuzz}
 work=$build/runs
 
@@ -83,8 +85,6 @@ PY
 # Each target runs on a core of its own: up to FUZZ_JOBS (default: the number of cores)
 # at once, each for the full SECONDS, so running them side by side changes the wall time,
 # not the fuzzing each one gets. The reports are printed in a fixed order afterwards.
-jobs=${FUZZ_JOBS:-$(nproc)}
-[[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: FUZZ_JOBS must be a positive integer, got '$jobs'" >&2; exit 2; }
 run() {  # name dir: runs one target, writes its report line(s) to dir/report.txt and 0/1 to dir/status
   local name=$1 dir=$work/$2
   set +e
@@ -96,25 +96,22 @@ run() {  # name dir: runs one target, writes its report line(s) to dir/report.tx
   # (no stats line after a crash: grep fails, which must not end the run under pipefail)
   execs=$(grep -m1 "stat::number_of_executed_units" "$dir/log.txt" | awk '{print $2}' || true)
   findings=$(find "$dir/artifacts" -type f | wc -l)
+  local failed=0
+  [[ $rc -eq 0 && $findings -eq 0 ]] || failed=1
   {
     printf '%-18s %3ss  executions %-10s corpus %-5s findings %s (exit %s)\n' "$name" "$seconds" "${execs:-?}" \
         "$(find "$dir/corpus" -type f | wc -l)" "$findings" "$rc"
-    if [[ $rc -ne 0 || $findings -ne 0 ]]; then
+    if [[ $failed -ne 0 ]]; then
       grep -m5 -E "ERROR|SUMMARY|runtime error" "$dir/log.txt" || true
       find "$dir/artifacts" -type f | head -3
     fi
   } > "$dir/report.txt"
-  if [[ $rc -ne 0 || $findings -ne 0 ]]; then echo 1 > "$dir/status"; else echo 0 > "$dir/status"; fi
+  echo "$failed" > "$dir/status"
 }
 targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod)
-running=0
 for t in "${targets[@]}"; do
-  if [[ $running -ge $jobs ]]; then
-    wait -n || true
-    running=$((running - 1))
-  fi
+  while [[ $(jobs -rp | wc -l) -ge $jobs ]]; do wait -n || true; done
   run "${t%%:*}" "${t##*:}" &
-  running=$((running + 1))
 done
 wait
 status=0
