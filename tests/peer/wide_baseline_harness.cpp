@@ -24,9 +24,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
-// A match is "correct" within this distance of its true position (FrontEndResult,
-// TrueLineCeiling).
-constexpr double kCorrectMatch_px = 2.0;
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -202,6 +199,12 @@ bool buildWorld(const std::string& scn_path, const WorldSpec& spec, World& world
     ok = ok && setKey(text, "terrain", "samples_log2", std::to_string(spec.samples_log2));
     ok = ok && setKey(text, "terrain", "levels", std::to_string(spec.levels));
     ok = ok && setKey(text, "terrain", "finest_cell_m", num(spec.finest_cell_m));
+    if (spec.hillside) {
+        ok = ok && setKey(text, "terrain", "hills_start_m", num(kHillsideStart_m));
+        ok = ok && setKey(text, "terrain", "hills_full_m", num(kHillsideFull_m));
+        ok = ok && setKey(text, "terrain", "hills_amplitude_m", num(kHillsideAmplitude_m));
+        ok = ok && setKey(text, "terrain", "hills_wavelength_m", num(kHillsideWavelength_m));
+    }
     if (!ok) {
         error = "scenario text: a key to override is missing";
         return false;

@@ -53,7 +53,17 @@ struct WorldSpec {
     int samples_log2 = 10;  // the scenario's own terrain (rover_wide_baseline.scn)
     int levels = 12;
     double finest_cell_m = 0.01;
+    // Terrain rising in front of the rover, so that the overlap of a 5-20 m pair holds
+    // slopes seen at 10-30 deg instead of level ground seen at 1.4-5 deg: the scenario's
+    // far hills (300-3,000 m from the terrain centre, 150 m) brought in to kHillside*.
+    bool hillside = false;
 };
+// The hillside world's hills: they begin 15 m from the terrain centre, reach full height
+// at 100 m, are 40 m high at full height and 200 m long (sim/include/sim/terrain.hpp).
+inline constexpr double kHillsideStart_m = 15.0;
+inline constexpr double kHillsideFull_m = 100.0;
+inline constexpr double kHillsideAmplitude_m = 40.0;
+inline constexpr double kHillsideWavelength_m = 200.0;
 
 // One terrain per seed, reused for every baseline / convergence / size of that seed.
 struct World {
@@ -121,6 +131,10 @@ struct OdometryCase {
                                              std::uint64_t seed);
 
 // ---- truth correspondences ----------------------------------------------------------
+
+// A match is "correct" within this distance of its true B pixel (FrontEndResult,
+// TrueLineCeiling).
+inline constexpr double kCorrectMatch_px = 2.0;
 
 struct Correspondence {
     Vec2 pixel_a = Vec2::Zero();
