@@ -596,6 +596,14 @@ void printDepthSpread(const std::vector<CaseResult>& cases) {
     }
 }
 
+// What every case of a sweep must meet, whatever its front end does: the rectifier with
+// the true pose puts true correspondences on one row, and refinement + rectification of
+// oracle matches meet the targets.
+void expectTruePoseAndOracle(const CaseResult& c) {
+    EXPECT_LT(c.vd_truth.rms_px, 0.01);
+    expectTargets(c, c.vd_odo, c.oracle_vtm, "oracle matches");
+}
+
 // Runs the cases on one thread per core (test code; each case reads its seed's World and
 // writes only its own result): the worlds are built first, one thread per seed, then the
 // threads take cases from a shared counter. The cases come back in the serial order with
@@ -673,9 +681,7 @@ TEST(WideBaselineEval, SweepPoseAndVerticalDisparityAgainstTruthAndOpenCV) {
     printExtraDraws(cases);
     printPredictedVd(cases);
     for (const CaseResult& c : cases) {
-        // The rectifier itself: with the true pose, true correspondences land on one row.
-        EXPECT_LT(c.vd_truth.rms_px, 0.01);
-        expectTargets(c, c.vd_odo, c.oracle_vtm, "oracle matches");
+        expectTruePoseAndOracle(c);
         // The whole front end meets the targets on every odometry draw at baselines up to
         // kFrontEndTargetMaxBaseline_m. At 2 m most draws meet them (printExtraDraws); at
         // 5-20 m Förstner + NCC find too few correct matches (the "correct matches" column;
@@ -712,8 +718,7 @@ TEST(WideBaselineEval, HillsideWorldAtFiveToTwentyMetres) {
     printSummary(cases);
     printDepthSpread(cases);
     for (const CaseResult& c : cases) {
-        EXPECT_LT(c.vd_truth.rms_px, 0.01);
-        expectTargets(c, c.vd_odo, c.oracle_vtm, "oracle matches");
+        expectTruePoseAndOracle(c);
     }
 }
 
