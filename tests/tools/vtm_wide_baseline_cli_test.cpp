@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "ground_test_files.hpp"
 #include "vtm/core/camera_model.hpp"
@@ -97,22 +98,27 @@ protected:
 };
 test::TempDir* WideBaselineCli::dir_ = nullptr;
 
-TEST_F(WideBaselineCli, RefineBringsASpoiledOdometryPoseBackToTheTruth) {
-    auto p1 = readCameraPoseSpec(sim("camera_poses.txt:0"));
-    auto p2 = readCameraPoseSpec(sim("camera_poses.txt:1"));
-    ASSERT_TRUE(p1.ok && p2.ok) << p1.error << p2.error;
-    // Odometry-like error on camera 2: 2 deg of heading (about the site's vertical) and 5 %
-    // of the baseline sideways.
-    SimCameraPose spoiled = p2.value;
+// Odometry-like error on camera 2 of the rendered pair: 2 deg of heading (about the site's
+// vertical) and 5 % of the baseline sideways.
+SimCameraPose spoiledPose2(const SimCameraPose& p1, const SimCameraPose& p2) {
+    SimCameraPose spoiled = p2;
     const Mat3 yaw = Eigen::AngleAxisd(2.0 / 57.29577951308232, Vec3::UnitZ()).toRotationMatrix();
-    const Quat q(yaw * rotationOf(p2.value));
+    const Quat q(yaw * rotationOf(p2));
     spoiled.attitude_wxyz[0] = q.w();
     spoiled.attitude_wxyz[1] = q.x();
     spoiled.attitude_wxyz[2] = q.y();
     spoiled.attitude_wxyz[3] = q.z();
-    const Vec3 base = positionOf(p2.value) - positionOf(p1.value);
+    const Vec3 base = positionOf(p2) - positionOf(p1);
     const Vec3 side = base.cross(Vec3::UnitZ()).normalized() * (0.05 * base.norm());
     for (int i = 0; i < 3; ++i) spoiled.position_m[i] += side[i];
+    return spoiled;
+}
+
+TEST_F(WideBaselineCli, RefineBringsASpoiledOdometryPoseBackToTheTruth) {
+    auto p1 = readCameraPoseSpec(sim("camera_poses.txt:0"));
+    auto p2 = readCameraPoseSpec(sim("camera_poses.txt:1"));
+    ASSERT_TRUE(p1.ok && p2.ok) << p1.error << p2.error;
+    const SimCameraPose spoiled = spoiledPose2(p1.value, p2.value);
     std::ofstream(dir_->file("odometry2.txt")) << formatCameraPoses({spoiled});
 
     const CommandRun r = runTool(*dir_, VTM_EXECUTABLE,
@@ -141,6 +147,63 @@ TEST_F(WideBaselineCli, RefineBringsASpoiledOdometryPoseBackToTheTruth) {
     EXPECT_LT(dir_after, 0.25 * dir_before);
     // The baseline length is the odometry's (not observable from images).
     EXPECT_NEAR(t_ref.norm(), t_odo.norm(), 1e-9);
+}
+
+// The report's range of the inliers (where the refined motion was measured; rows of nearer
+// or farther points are extrapolated) against the renderer's true range at the same pixels.
+TEST_F(WideBaselineCli, RefineReportsTheRangeOfItsInliersAsTheRendererHasIt) {
+    auto p1 = readCameraPoseSpec(sim("camera_poses.txt:0"));
+    auto p2 = readCameraPoseSpec(sim("camera_poses.txt:1"));
+    auto range = readPfm(sim("mast_000_range.pfm"));
+    ASSERT_TRUE(p1.ok && p2.ok && range.ok) << p1.error << p2.error << range.error;
+    std::ofstream(dir_->file("odometry2b.txt")) << formatCameraPoses({spoiledPose2(p1.value, p2.value)});
+    const CommandRun r = runTool(*dir_, VTM_EXECUTABLE,
+                                 "refine '" + sim("mast_000.png") + "' '" + sim("mast_001.png") + "' --camera '" +
+                                     sim("mast.cmod") + "' --pose1 '" + sim("camera_poses.txt") + ":0' --pose2 '" +
+                                     dir_->file("odometry2b.txt") + "' --out '" + dir_->file("refined_b.txt") +
+                                     "' --matches '" + dir_->file("matches_b.txt") + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::size_t at = r.out.find("| inliers' range along camera 1's rays");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    double reported[5] = {};
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find(") | ", at) + 4, "%lf / %lf / %lf / %lf / %lf", &reported[0],
+                          &reported[1], &reported[2], &reported[3], &reported[4]),
+              5)
+        << r.out.substr(at, 200);
+    // True range at the inliers' pixels in image 1 (nearest pixel; (0,0) is the centre of the
+    // top-left pixel in both files).
+    std::ifstream matches(dir_->file("matches_b.txt"));
+    std::vector<double> truth;
+    std::string line;
+    while (std::getline(matches, line)) {
+        double x1, y1, x2, y2, ncc;
+        int inlier = 0;
+        if (line.empty() || line[0] == '#' ||
+            std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %d", &x1, &y1, &x2, &y2, &ncc, &inlier) != 6 || inlier != 1) {
+            continue;
+        }
+        const float t = range.value.at(static_cast<int>(std::lround(x1)), static_cast<int>(std::lround(y1)));
+        if (std::isfinite(t)) truth.push_back(t);
+    }
+    ASSERT_GE(truth.size(), 12U);
+    std::sort(truth.begin(), truth.end());
+    const auto pct = [&truth](double q) {
+        return truth[static_cast<std::size_t>(q * static_cast<double>(truth.size() - 1U) + 0.5)];
+    };
+    std::printf("inliers' range, reported / true: 10th %.2f / %.2f m, median %.2f / %.2f m, 90th %.2f / %.2f m\n",
+                reported[1], pct(0.1), reported[2], pct(0.5), reported[3], pct(0.9));
+    // Allowed: 5 % plus the range error of half a pixel of disparity at that range
+    // (z^2 * 0.5 px / (fx * baseline)): a 2 m baseline resolves 200 m points to about 8 %.
+    CameraModel cam{};
+    ASSERT_TRUE(readCameraModelFile(sim("mast.cmod"), cam).ok);
+    const double baseline_m = (positionOf(p2.value) - positionOf(p1.value)).norm();
+    const auto tolerance = [&](double z) { return 0.05 * z + z * z * 0.5 / (cam.fx_px * baseline_m); };
+    for (const double q : {0.1, 0.5, 0.9}) {
+        const int k = q < 0.2 ? 1 : (q < 0.6 ? 2 : 3);
+        EXPECT_NEAR(reported[k], pct(q), tolerance(pct(q))) << "percentile " << q;
+    }
+    EXPECT_LE(reported[0], reported[1]);
+    EXPECT_LE(reported[3], reported[4]);
 }
 
 TEST_F(WideBaselineCli, RectifyWritesAPairWhoseTrueCorrespondencesShareTheirRows) {

@@ -1,5 +1,6 @@
 #include "wide_baseline_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -143,6 +144,7 @@ struct RefineRun {
     features::MatchStats match_stats;
     motion::MotionResult result;
     std::vector<std::uint8_t> inlier;
+    std::vector<double> range_m;  // refined range of each match along camera 1's ray (NaN: outlier)
     double detect_s = 0.0;
     double match_s = 0.0;
     double refine_s = 0.0;
@@ -207,6 +209,7 @@ std::string refineMotion(const PairInputs& in, RefineRun& run) {
         pb[i] = run.matches->items[i].pixel_b;
     }
     run.inlier.assign(n, 0U);
+    run.range_m.assign(n, std::nan(""));
     motion::MotionInput mi;
     mi.model_a = &in.model1;
     mi.model_b = &in.model2;
@@ -219,7 +222,8 @@ std::string refineMotion(const PairInputs& in, RefineRun& run) {
     mc.range_max_m = std::max(in.range_max_m, mc.range_max_m);
     static motion::MotionRefiner refiner;  // large fixed-size members
     const auto t0 = std::chrono::steady_clock::now();
-    const Status s = refiner.refine(mi, mc, run.result, Span<std::uint8_t>(run.inlier.data(), n));
+    const Status s = refiner.refine(mi, mc, run.result, Span<std::uint8_t>(run.inlier.data(), n),
+                                    Span<double>(run.range_m.data(), n));
     run.refine_s = seconds(t0);
     return s.isOk() ? "" : statusText("MotionRefiner::refine", s);
 }
@@ -249,6 +253,22 @@ std::string writeMatches(const std::string& path, const RefineRun& run) {
     return f.good() ? "" : path + ": cannot write";
 }
 
+// "min / 10th / median / 90th / max" of the inliers' refined ranges, metres: where the
+// refined motion was measured. Rows of nearer or farther points are extrapolated
+// (docs/wide-baseline-cli.md).
+std::string inlierRanges(const RefineRun& run) {
+    std::vector<double> r;
+    for (std::size_t i = 0; i < run.range_m.size(); ++i) {
+        if (run.inlier[i] != 0U && std::isfinite(run.range_m[i])) r.push_back(run.range_m[i]);
+    }
+    if (r.empty()) return "none";
+    std::sort(r.begin(), r.end());
+    const auto at = [&r](double q) { return r[static_cast<std::size_t>(q * static_cast<double>(r.size() - 1U) + 0.5)]; };
+    char t[160];
+    std::snprintf(t, sizeof t, "%.2f / %.2f / %.2f / %.2f / %.2f m", r.front(), at(0.1), at(0.5), at(0.9), r.back());
+    return t;
+}
+
 std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, const RefineRun& run) {
     const motion::MotionResult& r = run.result;
     const double dR = motion::rotationAngleRad(in.R_2_from_1, r.R_b_from_a) * kRadToDeg;
@@ -261,6 +281,7 @@ std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, con
                   "| features in image 1 | %d (candidates %d) |\n"
                   "| matches (mutual, NCC >= %.2f) | %d of %d tried (no region %d, low score %d, not refined %d, not mutual %d) |\n"
                   "| inliers | %d of %d |\n"
+                  "| inliers' range along camera 1's rays (min / 10th pct / median / 90th pct / max) | %s |\n"
                   "| reprojection RMS, odometry motion | %.3f px |\n"
                   "| reprojection RMS, refined (inliers) | %.3f px |\n"
                   "| rotation change from odometry | %.3f deg (1-sigma %.4f deg) |\n"
@@ -272,7 +293,8 @@ std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, con
                   o.image1.c_str(), o.image2.c_str(), in.image1.width, in.image1.height, run.features->count,
                   run.detector_stats.candidates, static_cast<double>(features::MatcherConfig{}.min_score),
                   run.matches->count, run.match_stats.attempted, run.match_stats.no_region, run.match_stats.low_score,
-                  run.match_stats.not_refined, run.match_stats.not_mutual, r.inliers, r.matches, r.initial_rms_px, r.rms_px, dR,
+                  run.match_stats.not_refined, run.match_stats.not_mutual, r.inliers, r.matches, inlierRanges(run).c_str(),
+                  r.initial_rms_px, r.rms_px, dR,
                   r.rotation_sigma_rad * kRadToDeg, dT, r.direction_sigma_rad * kRadToDeg, r.epipolar_sigma_px,
                   r.t_b_from_a_m.norm(),
                   r.iterations, r.passes, run.detect_s, run.match_s, run.refine_s);
