@@ -54,8 +54,9 @@ struct WorldSpec {
     int levels = 12;
     double finest_cell_m = 0.01;
     // Terrain rising in front of the rover, so that the overlap of a 5-20 m pair holds
-    // slopes seen at 10-30 deg instead of level ground seen at 1.4-5 deg: the scenario's
-    // far hills (300-3,000 m from the terrain centre, 150 m) brought in to kHillside*.
+    // slopes (the matches lie 30-90 m away) instead of level ground seen at 1.4-5 deg: the
+    // scenario's far hills (300-3,000 m from the terrain centre, 150 m high) brought in to
+    // kHillside* (docs/wide-baseline-evaluation.md, "Hillside world").
     bool hillside = false;
 };
 // The hillside world's hills: they begin 15 m from the terrain centre, reach full height
