@@ -122,22 +122,29 @@ std::uint64_t caseSeed(std::uint64_t seed, double baseline_m, double convergence
            static_cast<std::uint64_t>(convergence_deg * 10.0);
 }
 
+// The pose with the true baseline length (OpenCV gives a unit t; rows after rectification
+// do not depend on the length).
+RelativePose withTrueLength(const RenderedPair& pair, const RelativePose& pose) {
+    RelativePose scaled = pose;
+    scaled.t_b_from_a_m = pose.t_b_from_a_m.normalized() * pair.truth.t_b_from_a_m.norm();
+    return scaled;
+}
+
 PoseEval evaluatePose(const RenderedPair& pair, const std::vector<Correspondence>& corr, const RelativePose& pose) {
     PoseEval e;
     e.ok = true;
     e.rot_deg = rotationErrorDeg(pose.R_b_from_a, pair.truth.R_b_from_a);
     e.dir_deg = directionErrorDeg(pose.t_b_from_a_m, pair.truth.t_b_from_a_m);
-    RelativePose scaled = pose;  // OpenCV gives a unit t; rows after rectification do not depend on the length
-    scaled.t_b_from_a_m = pose.t_b_from_a_m.normalized() * pair.truth.t_b_from_a_m.norm();
+    const RelativePose scaled = withTrueLength(pair, pose);
     e.vd_vtm = vtmVerticalDisparity(pair, scaled, corr);
     e.vd_cv = opencvVerticalDisparity(pair, scaled, corr);
     return e;
 }
 
-// VTM refine and OpenCV on the same matches.
-void evaluateMatches(const RenderedPair& pair, const std::vector<Correspondence>& corr, const RelativePose& odometry,
-                     const std::vector<Vec2>& pa, const std::vector<Vec2>& pb, PoseEval& vtm, PoseEval& cv,
-                     int* inliers) {
+// VTM refine on matches.
+PoseEval evaluateRefine(const RenderedPair& pair, const std::vector<Correspondence>& corr, const RelativePose& odometry,
+                        const std::vector<Vec2>& pa, const std::vector<Vec2>& pb, int* inliers) {
+    PoseEval vtm;
     const RefineResult rr = refinePose(pair, odometry, pa, pb);
     if (rr.ok) {
         vtm = evaluatePose(pair, corr, rr.pose);
@@ -148,6 +155,14 @@ void evaluateMatches(const RenderedPair& pair, const std::vector<Correspondence>
     } else {
         vtm.error = rr.error;
     }
+    return vtm;
+}
+
+// VTM refine and OpenCV on the same matches.
+void evaluateMatches(const RenderedPair& pair, const std::vector<Correspondence>& corr, const RelativePose& odometry,
+                     const std::vector<Vec2>& pa, const std::vector<Vec2>& pb, PoseEval& vtm, PoseEval& cv,
+                     int* inliers) {
+    vtm = evaluateRefine(pair, corr, odometry, pa, pb, inliers);
     const PeerPoseResult p = opencvRelativePose(pair.model, pa, pb);
     if (p.ok) {
         cv = evaluatePose(pair, corr, p.pose);
@@ -180,12 +195,11 @@ void depthSpread(const RenderedPair& pair, const std::vector<Correspondence>& co
     std::vector<Correspondence> at_matches;  // the correct matches, at their true B pixels
     std::vector<double> match_range;
     for (std::size_t i = 0; i < fe.pixels_a.size(); ++i) {
-        Vec2 truth_b;
-        if (truthMatch(pair, fe.pixels_a[i], truth_b, true) && (truth_b - fe.pixels_b[i]).norm() <= kCorrectMatch_px) {
+        if (fe.correct[i] != 0U) {
             const long x = std::lround(fe.pixels_a[i].x());
             const long y = std::lround(fe.pixels_a[i].y());
             const double range = pair.range_a_m[static_cast<std::size_t>(y * pair.width + x)];
-            at_matches.push_back(Correspondence{fe.pixels_a[i], truth_b, range});
+            at_matches.push_back(Correspondence{fe.pixels_a[i], fe.truth_b[i], range});
             match_range.push_back(range);
         }
     }
@@ -193,8 +207,7 @@ void depthSpread(const RenderedPair& pair, const std::vector<Correspondence>& co
     d.match_p90_m = percentile(match_range, 0.9);
     std::vector<Vec2> pa, pb;
     noisyTrueMatches(at_matches, at_matches.size(), kOracleSigmaPx, seed, pa, pb);
-    PoseEval unused_cv;
-    evaluateMatches(pair, corr, odometry, pa, pb, d.oracle_at_matches, unused_cv, nullptr);
+    d.oracle_at_matches = evaluateRefine(pair, corr, odometry, pa, pb, nullptr);
     if (fe.ok && !match_range.empty()) {
         std::vector<Correspondence> band;
         for (const Correspondence& c : corr) {
@@ -202,9 +215,7 @@ void depthSpread(const RenderedPair& pair, const std::vector<Correspondence>& co
                 band.push_back(c);
             }
         }
-        RelativePose scaled = fe.refined;
-        scaled.t_b_from_a_m = fe.refined.t_b_from_a_m.normalized() * pair.truth.t_b_from_a_m.norm();
-        d.vd_in_band = vtmVerticalDisparity(pair, scaled, band);
+        d.vd_in_band = vtmVerticalDisparity(pair, withTrueLength(pair, fe.refined), band);
     }
 }
 

@@ -24,6 +24,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
+// A match is "correct" within this distance of its true position (FrontEndResult,
+// TrueLineCeiling).
+constexpr double kCorrectMatch_px = 2.0;
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -583,11 +586,15 @@ Status matchFeatures(const RenderedPair& pair, const RelativePose& odometry, con
         r.pixels_a.push_back(m.pixel_a);
         r.pixels_b.push_back(m.pixel_b);
         Vec2 truth_b;
+        bool correct = false;
         if (truthMatch(pair, m.pixel_a, truth_b, true)) {
             const double e = (truth_b - m.pixel_b).norm();
             errs.push_back(e);
-            r.correct_matches += (e <= kCorrectMatch_px) ? 1 : 0;
+            correct = e <= kCorrectMatch_px;
+            r.correct_matches += correct ? 1 : 0;
         }
+        r.correct.push_back(correct ? 1U : 0U);
+        r.truth_b.push_back(correct ? truth_b : Vec2::Constant(NAN));
     }
     r.match_error_median_px = median(errs);
     return Status::ok();

@@ -133,10 +133,6 @@ struct OdometryCase {
 
 // ---- truth correspondences ----------------------------------------------------------
 
-// A match is "correct" within this distance of its true B pixel (FrontEndResult,
-// TrueLineCeiling).
-inline constexpr double kCorrectMatch_px = 2.0;
-
 struct Correspondence {
     Vec2 pixel_a = Vec2::Zero();
     Vec2 pixel_b = Vec2::Zero();  // exact projection of A's truth point into B
@@ -163,6 +159,9 @@ struct FrontEndResult {
     double match_error_median_px = 0.0;
     std::int32_t correct_matches = 0;
     std::vector<Vec2> pixels_a, pixels_b;  // the matches (input to VTM refine and OpenCV)
+    // Per match: 1 if it is one of correct_matches, and then its true B pixel (else NaN).
+    std::vector<std::uint8_t> correct;
+    std::vector<Vec2> truth_b;
     RelativePose refined{};
     double refine_rms_px = 0.0;
     double refine_epipolar_sigma_px = 0.0;  // MotionResult::epipolar_sigma_px

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ground_test_files.hpp"
@@ -198,8 +199,8 @@ TEST_F(WideBaselineCli, RefineReportsTheRangeOfItsInliersAsTheRendererHasIt) {
     ASSERT_TRUE(readCameraModelFile(sim("mast.cmod"), cam).ok);
     const double baseline_m = (positionOf(p2.value) - positionOf(p1.value)).norm();
     const auto tolerance = [&](double z) { return 0.05 * z + z * z * 0.5 / (cam.fx_px * baseline_m); };
-    for (const double q : {0.1, 0.5, 0.9}) {
-        const int k = q < 0.2 ? 1 : (q < 0.6 ? 2 : 3);
+    const std::pair<int, double> columns[] = {{1, 0.1}, {2, 0.5}, {3, 0.9}};  // report column, percentile
+    for (const auto& [k, q] : columns) {
         EXPECT_NEAR(reported[k], pct(q), tolerance(pct(q))) << "percentile " << q;
     }
     EXPECT_LE(reported[0], reported[1]);
