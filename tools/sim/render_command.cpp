@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "../vtm/exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "sim/terrain.hpp"

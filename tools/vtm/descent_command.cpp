@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/descent/plane_sweep.hpp"
 #include "vtm/ground/camera_model_io.hpp"

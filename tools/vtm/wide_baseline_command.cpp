@@ -12,7 +12,7 @@
 #include <sstream>
 #include <vector>
 
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/features/features.hpp"
