@@ -1,6 +1,7 @@
 #include <cmath>
 
 #include "hal/odometry.hpp"
+#include "vtm/core/eigen.hpp"
 
 namespace vtm::hal {
 
@@ -34,6 +35,14 @@ Status validatePose(const PoseEstimate& pose) noexcept {
         }
     }
     return Status::ok();
+}
+
+RigidPose siteFromVehicle(const PoseEstimate& pose) noexcept {
+    const Quat q(pose.attitude_wxyz[0], pose.attitude_wxyz[1], pose.attitude_wxyz[2], pose.attitude_wxyz[3]);
+    RigidPose site_from_vehicle;
+    site_from_vehicle.R = q.normalized().toRotationMatrix();
+    site_from_vehicle.t_m = Vec3(pose.position_m[0], pose.position_m[1], pose.position_m[2]);
+    return site_from_vehicle;
 }
 
 }  // namespace vtm::hal

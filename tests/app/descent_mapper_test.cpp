@@ -85,8 +85,8 @@ CameraMount mountOf(const sim::ScenarioFrame& f) {
     const Mat3 R_site_from_vehicle = vehicleRotation(f.true_pose);
     const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
     CameraMount m;
-    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R_site_from_ref;
-    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.position_site_m - vehicle);
+    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R;
+    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.t_m - vehicle);
     return m;
 }
 

@@ -84,8 +84,8 @@ CameraMount mountOf(const sim::ScenarioFrame& f) {
     const Mat3 R_site_from_vehicle = rotationOf(f.true_pose.attitude_wxyz);
     const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
     CameraMount m;
-    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R_site_from_ref;
-    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.position_site_m - vehicle);
+    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R;
+    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.t_m - vehicle);
     return m;
 }
 
@@ -154,8 +154,8 @@ protected:
 #if !defined(VTM_TEST_UNDER_EMULATOR)
 // The true relative pose of the pair (camera reference frames, X2 = R X1 + t).
 void trueRelativePose(const sim::ScenarioFrame& f1, const sim::ScenarioFrame& f2, Mat3& R, Vec3& t) {
-    R = f2.camera_pose.R_site_from_ref.transpose() * f1.camera_pose.R_site_from_ref;
-    t = f2.camera_pose.R_site_from_ref.transpose() * (f1.camera_pose.position_site_m - f2.camera_pose.position_site_m);
+    R = f2.camera_pose.R.transpose() * f1.camera_pose.R;
+    t = f2.camera_pose.R.transpose() * (f1.camera_pose.t_m - f2.camera_pose.t_m);
 }
 
 struct RangeError {
@@ -209,7 +209,7 @@ RangeError rangeError(const WideBaselineProducts& p, const sim::ScenarioFrame& f
                 continue;
             }
             const Vec3 truth(t[0], t[1], t[2]);
-            const double true_range = (truth - f1.camera_pose.position_site_m).norm();
+            const double true_range = (truth - f1.camera_pose.t_m).norm();
             const double range = (site - g.left_centre_site_m).norm();
             rel.push_back(std::fabs(range - true_range) / true_range);
         }

@@ -113,12 +113,12 @@ PairResult evaluatePair(const test::RenderedFrame& f1, const test::RenderedFrame
     EXPECT_TRUE(s.isOk()) << s.reason();
     if (std::getenv("VTM_DESCENT_VERBOSE") != nullptr) {
         std::printf("pair: z1 %.1f z2 %.1f depth %.1f..%.1f planes %d minpar %.2f scale %.3f sigma %.3f valid %d lowpar %d oov %d range %d notex %d\n",
-                    f1.pose.position_site_m.z(), f2.pose.position_site_m.z(), c.depth_min_m, c.depth_max_m, c.planes,
+                    f1.pose.t_m.z(), f2.pose.t_m.z(), c.depth_min_m, c.depth_max_m, c.planes,
                     c.min_parallax_px, stats.scale, stats.prefilter_sigma_px, stats.valid_pixels, stats.reason_counts[3],
                     stats.reason_counts[2], stats.reason_counts[4], stats.reason_counts[5]);
     }
     PairResult r;
-    r.altitude_m = -f1.pose.position_site_m.z();  // above the site datum, refined below
+    r.altitude_m = -f1.pose.t_m.z();  // above the site datum, refined below
     std::vector<double> err;
     double sum2 = 0.0;
     for (std::int32_t y = 0; y < kSize; ++y) {
@@ -128,7 +128,7 @@ PairResult evaluatePair(const test::RenderedFrame& f1, const test::RenderedFrame
                 continue;
             }
             const Vec3 ray((x - camera.cx_px) / camera.fx_px, (y - camera.cy_px) / camera.fy_px, 1.0);
-            const Vec3 p = f1.pose.R_site_from_ref * (ray * static_cast<double>(depth[i])) + f1.pose.position_site_m;
+            const Vec3 p = f1.pose.R * (ray * static_cast<double>(depth[i])) + f1.pose.t_m;
             const double e = -p.z() - (-static_cast<double>(f1.point_site_m[3 * i + 2]));
             err.push_back(std::fabs(e));
             sum2 += e * e;

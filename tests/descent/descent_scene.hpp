@@ -34,10 +34,10 @@ struct RenderedFrame {
     std::vector<std::uint16_t> image;
     std::vector<float> depth_m;
     std::vector<float> point_site_m;  // 3 per pixel
-    sim::CameraPose pose;
+    RigidPose pose;
 };
 
-inline RenderedFrame render(const sim::Terrain& terrain, const CameraModel& model, const sim::CameraPose& pose,
+inline RenderedFrame render(const sim::Terrain& terrain, const CameraModel& model, const RigidPose& pose,
                             std::uint32_t frameIndex, const sim::SensorParams& sensor = sim::SensorParams{}) {
     const std::int32_t w = model.width_px;
     const std::int32_t h = model.height_px;
@@ -62,15 +62,15 @@ inline RenderedFrame render(const sim::Terrain& terrain, const CameraModel& mode
     return f;
 }
 
-inline CameraPose toDescentPose(const sim::CameraPose& p) {
+inline CameraPose toDescentPose(const RigidPose& p) {
     CameraPose c;
-    c.R_site_from_cam = p.R_site_from_ref;
-    c.position_site_m = p.position_site_m;
+    c.R_site_from_cam = p.R;
+    c.position_site_m = p.t_m;
     return c;
 }
 
 // Nadir camera (optical axis straight down, image +x = east) at `eye_site_m`.
-inline sim::CameraPose nadirPose(const Vec3& eye_site_m) {
+inline RigidPose nadirPose(const Vec3& eye_site_m) {
     return sim::poseLookingAt(eye_site_m, eye_site_m + Vec3(0.0, 0.0, 100.0));
 }
 

@@ -296,8 +296,8 @@ struct WidePair {
     std::uint8_t a[kW * kH];
     std::uint8_t b[kW * kH];
     CameraModel model;
-    sim::CameraPose pose_a;
-    sim::CameraPose pose_b;
+    RigidPose pose_a;
+    RigidPose pose_b;
 };
 
 Status renderWidePair(WidePair& pair, Hasher& h) noexcept {
@@ -488,8 +488,8 @@ std::uint64_t wideBaselineSection() noexcept {
     h.addI64(static_cast<std::int64_t>(rendered.code()));
     if (rendered.isOk()) {
         // Relative pose X_b = R X_a + t of the two camera frames.
-        const Mat3 R_ba = pair.pose_b.R_site_from_ref.transpose() * pair.pose_a.R_site_from_ref;
-        const Vec3 t_ba = pair.pose_b.R_site_from_ref.transpose() * (pair.pose_a.position_site_m - pair.pose_b.position_site_m);
+        const Mat3 R_ba = pair.pose_b.R.transpose() * pair.pose_a.R;
+        const Vec3 t_ba = pair.pose_b.R.transpose() * (pair.pose_a.t_m - pair.pose_b.t_m);
         static features::MatchSet matches;
         hashMatches(pair, R_ba, t_ba, matches, h);
         hashMotion(pair, R_ba, t_ba, matches, h);
@@ -535,8 +535,8 @@ std::uint64_t descentSection() noexcept {
         out.image16 = ImageView<std::uint16_t>(images[k], kD, kD);
         h.addI64(static_cast<std::int64_t>(sim::renderFrame(r, out, nullptr).code()));
         descent::CameraPose& p = (k == 0) ? g.pose1 : g.pose2;
-        p.R_site_from_cam = r.pose.R_site_from_ref;
-        p.position_site_m = r.pose.position_site_m;
+        p.R_site_from_cam = r.pose.R;
+        p.position_site_m = r.pose.t_m;
     }
     descent::Config c;
     c.max_width = kD;

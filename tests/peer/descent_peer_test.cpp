@@ -13,7 +13,7 @@
 #include <cmath>
 #include <vector>
 
-#include "../descent/descent_scene.hpp"
+#include "descent_scene.hpp"  // tests/descent, on this target's include path
 #include "vtm/descent/plane_sweep.hpp"
 
 namespace vtm::descent {

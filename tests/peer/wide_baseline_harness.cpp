@@ -168,10 +168,10 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-RelativePose relativePose(const sim::CameraPose& a, const sim::CameraPose& b) {
+RelativePose relativePose(const RigidPose& a, const RigidPose& b) {
     RelativePose p;
-    p.R_b_from_a = b.R_site_from_ref.transpose() * a.R_site_from_ref;
-    p.t_b_from_a_m = b.R_site_from_ref.transpose() * (a.position_site_m - b.position_site_m);
+    p.R_b_from_a = b.R.transpose() * a.R;
+    p.t_b_from_a_m = b.R.transpose() * (a.t_m - b.t_m);
     return p;
 }
 
@@ -271,7 +271,7 @@ bool renderPair(const World& world, const PairSpec& spec, RenderedPair& pair, st
     pair.model = fa.model;
     pair.pose_a = fa.camera_pose;
     pair.pose_b = fb.camera_pose;
-    pair.truth = relativePose(pair.pose_a, pair.pose_b);
+    pair.truth = eval::relativePose(pair.pose_a, pair.pose_b);
     pair.width = fa.model.width_px;
     pair.height = fa.model.height_px;
     const std::size_t n = static_cast<std::size_t>(pair.width) * static_cast<std::size_t>(pair.height);
@@ -319,17 +319,17 @@ OdometryCase perturbedOdometry(const RenderedPair& pair, const OdometryErrorSpec
     } while (dir.norm() < 1e-6);
     dir.normalize();
     OdometryCase out;
-    const double distance_m = (pair.pose_b.position_site_m - pair.pose_a.position_site_m).norm();
+    const double distance_m = (pair.pose_b.t_m - pair.pose_a.t_m).norm();
     out.translation_error_fraction = std::fabs(magnitude(spec.translation_fraction));
     out.heading_error_deg = magnitude(spec.heading_deg);
     out.tilt_error_deg = magnitude(spec.tilt_deg);
     const double tilt_axis_angle = 2.0 * kPi * u01(rng);
     const Vec3 tilt_axis(std::cos(tilt_axis_angle), std::sin(tilt_axis_angle), 0.0);  // horizontal, site
-    sim::CameraPose b = pair.pose_b;
-    b.position_site_m += out.translation_error_fraction * distance_m * dir;
-    b.R_site_from_ref = rotationAbout(Vec3::UnitZ(), out.heading_error_deg * kDeg) *
-                        rotationAbout(tilt_axis, out.tilt_error_deg * kDeg) * b.R_site_from_ref;
-    out.pose = relativePose(pair.pose_a, b);
+    RigidPose b = pair.pose_b;
+    b.t_m += out.translation_error_fraction * distance_m * dir;
+    b.R = rotationAbout(Vec3::UnitZ(), out.heading_error_deg * kDeg) *
+          rotationAbout(tilt_axis, out.tilt_error_deg * kDeg) * b.R;
+    out.pose = eval::relativePose(pair.pose_a, b);
     return out;
 }
 
@@ -337,7 +337,7 @@ OdometryCase perturbedOdometry(const RenderedPair& pair, const OdometryErrorSpec
 
 std::vector<Correspondence> trueCorrespondences(const RenderedPair& pair, int step_px, double occlusion_tolerance) {
     std::vector<Correspondence> out;
-    const Mat3 R_b_from_site = pair.pose_b.R_site_from_ref.transpose();
+    const Mat3 R_b_from_site = pair.pose_b.R.transpose();
     for (int y = step_px / 2; y < pair.height; y += step_px) {
         for (int x = step_px / 2; x < pair.width; x += step_px) {
             const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(pair.width) +
@@ -347,7 +347,7 @@ std::vector<Correspondence> trueCorrespondences(const RenderedPair& pair, int st
                 continue;  // sky
             }
             const Vec3 point_site(p[0], p[1], p[2]);
-            const Vec3 X_b = R_b_from_site * (point_site - pair.pose_b.position_site_m);
+            const Vec3 X_b = R_b_from_site * (point_site - pair.pose_b.t_m);
             Vec2 pb;
             if (!projectPoint(pair.model, X_b, pb).isOk() || pb.x() < 1.0 || pb.y() < 1.0 ||
                 pb.x() > pair.width - 2.0 || pb.y() > pair.height - 2.0) {
@@ -379,7 +379,7 @@ bool truthMatch(const RenderedPair& pair, const Vec2& pixel_a, Vec2& pixel_b, bo
             return false;
         }
     }
-    const Vec3 X_b = pair.pose_b.R_site_from_ref.transpose() * (site - pair.pose_b.position_site_m);
+    const Vec3 X_b = pair.pose_b.R.transpose() * (site - pair.pose_b.t_m);
     if (!projectPoint(pair.model, X_b, pixel_b).isOk()) {
         return false;
     }
@@ -517,7 +517,7 @@ Status detectFeatures(const RenderedPair& pair, const RelativePose& odometry, co
         pred.range_min_m = spec.range_min_m;
         pred.range_max_m = spec.range_max_m;
         features::VisibilityPrior prior;
-        prior.up_a = pair.pose_a.R_site_from_ref.transpose() * Vec3(0.0, 0.0, -1.0);
+        prior.up_a = pair.pose_a.R.transpose() * Vec3(0.0, 0.0, -1.0);
         prior.camera_height_m = spec.camera_height_m;
         mask.assign(static_cast<std::size_t>(pair.width) * static_cast<std::size_t>(pair.height), 0U);
         std::int64_t visible = 0;
@@ -567,7 +567,7 @@ Status matchFeatures(const RenderedPair& pair, const RelativePose& odometry, con
     // Local terrain normal for the template warp: the site's "up" (-z) in A's frame, from
     // A's attitude (the odometry errors are applied to B; a rover knows its tilt well).
     pred.surface_normal_a = spec.use_surface_normal
-                                ? Vec3(pair.pose_a.R_site_from_ref.transpose() * Vec3(0.0, 0.0, -1.0))
+                                ? Vec3(pair.pose_a.R.transpose() * Vec3(0.0, 0.0, -1.0))
                                 : Vec3(Vec3::Zero());
     // Odometry error bound (2 deg heading + 0.3 deg tilt) seen at the focal length, with
     // 50 % margin, unless given.

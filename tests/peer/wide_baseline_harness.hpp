@@ -37,7 +37,7 @@ struct RelativePose {
 };
 
 // X_b = R_b_from_a X_a + t from T_site_from_a and T_site_from_b.
-[[nodiscard]] RelativePose relativePose(const sim::CameraPose& a, const sim::CameraPose& b);
+[[nodiscard]] RelativePose relativePose(const RigidPose& a, const RigidPose& b);
 
 // Angle between two rotations and between two translation directions, degrees (ground
 // side: std::acos; the flight helpers live in vtm/motion).
@@ -99,7 +99,7 @@ double aimedTiltDeg(const PairSpec& spec);
 struct RenderedPair {
     PairSpec spec{};
     CameraModel model{};  // A and B (same mast camera)
-    sim::CameraPose pose_a{}, pose_b{};
+    RigidPose pose_a{}, pose_b{};
     RelativePose truth{};
     int width = 0, height = 0;
     std::vector<std::uint8_t> image_a, image_b;

@@ -141,7 +141,7 @@ struct Frame {
     }
 };
 
-FrameRequest request(const Terrain& t, const CameraModel& model, const CameraPose& pose, const SensorParams& s) {
+FrameRequest request(const Terrain& t, const CameraModel& model, const RigidPose& pose, const SensorParams& s) {
     FrameRequest r;
     r.terrain = &t;
     r.model = model;
@@ -157,24 +157,24 @@ void render(const FrameRequest& r, Frame& f) {
 }
 
 // A camera 1.5 m above the ground at the origin, looking 3 m north and 1.2 m down.
-CameraPose groundView(double ground_elevation_m) {
+RigidPose groundView(double ground_elevation_m) {
     return poseLookingAt(Vec3(0.0, 0.0, -(ground_elevation_m + 1.5)), Vec3(3.0, 0.2, -(ground_elevation_m + 0.3)));
 }
 
 // Site ray of pixel (x, y), as any user of the camera model computes it.
-bool siteRay(const CameraModel& m, const CameraPose& pose, std::int32_t x, std::int32_t y, Vec3& origin, Vec3& dir) {
+bool siteRay(const CameraModel& m, const RigidPose& pose, std::int32_t x, std::int32_t y, Vec3& origin, Vec3& dir) {
     CameraRay ray;
     if (!backProjectPixel(m, Vec2(x, y), ray).isOk()) {
         return false;
     }
-    origin = pose.R_site_from_ref * ray.origin_m + pose.position_site_m;
-    dir = pose.R_site_from_ref * ray.direction;
+    origin = pose.R * ray.origin_m + pose.t_m;
+    dir = pose.R * ray.direction;
     return true;
 }
 
-Vec3 opticalAxisSite(const CameraModel& m, const CameraPose& pose) {
+Vec3 opticalAxisSite(const CameraModel& m, const RigidPose& pose) {
     const Vec3 a = m.kind == CameraModelKind::kPinholeBrown ? Vec3::UnitZ() : Vec3(m.a[0], m.a[1], m.a[2]);
-    return pose.R_site_from_ref * a;
+    return pose.R * a;
 }
 
 // Ray parameter of the analytic plane elevation = base + sn * north + se * east (z = -elevation).
@@ -196,7 +196,7 @@ double sphereT(const TerrainParams& p, const Vec3& o, const Vec3& d) {
 void expectPlaneDepth(const CameraModel& model) {
     const TerrainParams p = planeParams();
     const Terrain& t = buildTerrain(p);
-    const CameraPose pose = groundView(p.base_elevation_m);
+    const RigidPose pose = groundView(p.base_elevation_m);
     Frame f;
     render(request(t, model, pose, noiselessSensor(8)), f);
     EXPECT_EQ(f.stats.hit_pixels, kW * kH);
@@ -228,7 +228,7 @@ TEST(SimRender, PlaneDepthIsAnalyticCahvor) { expectPlaneDepth(cahvorCamera()); 
 void expectDomeOnSphere(const CameraModel& model) {
     const TerrainParams p = domeParams();
     const Terrain& t = buildTerrain(p);
-    const CameraPose pose = poseLookingAt(Vec3(0.0, 0.0, -1.2), Vec3(3.0, 0.0, -0.4));
+    const RigidPose pose = poseLookingAt(Vec3(0.0, 0.0, -1.2), Vec3(3.0, 0.0, -0.4));
     Frame f;
     render(request(t, model, pose, noiselessSensor(8)), f);
     const Vec3 centre(p.dome_centre_north_m, p.dome_centre_east_m, -p.base_elevation_m);
@@ -271,13 +271,13 @@ TEST(SimRender, TruthProjectsBackToItsPixel) {
     const Terrain& t = buildTerrain(smallMarsParams());
     const double ground = t.elevationAt(0.0, 0.0);
     for (const CameraModel& model : {cahvorCamera(), pinholeCamera()}) {
-        const CameraPose pose = groundView(ground);
+        const RigidPose pose = groundView(ground);
         Frame f;
         render(request(t, model, pose, noiselessSensor(8)), f);
         ASSERT_GT(f.stats.hit_pixels, kW * kH / 2);
         CameraRay centre_ray;
         ASSERT_TRUE(backProjectPixel(model, Vec2(0.0, 0.0), centre_ray).isOk());
-        const Vec3 centre_site = pose.R_site_from_ref * centre_ray.origin_m + pose.position_site_m;
+        const Vec3 centre_site = pose.R * centre_ray.origin_m + pose.t_m;
         const Vec3 axis = opticalAxisSite(model, pose);
         double worst_px = 0.0;
         for (std::int32_t y = 0; y < kH; ++y) {
@@ -289,7 +289,7 @@ TEST(SimRender, TruthProjectsBackToItsPixel) {
                     continue;
                 }
                 Vec2 pixel;
-                ASSERT_TRUE(projectPoint(model, pose.R_site_from_ref.transpose() * (p - pose.position_site_m), pixel)
+                ASSERT_TRUE(projectPoint(model, pose.R.transpose() * (p - pose.t_m), pixel)
                                 .isOk());
                 worst_px = std::max(worst_px, (pixel - Vec2(x, y)).norm());
                 const double range = (p - centre_site).norm();
@@ -312,7 +312,7 @@ struct DisparityTruth {
     std::vector<float> depth = std::vector<float>(kW * kH);
 };
 
-void computeDisparity(const Terrain& t, const CameraModel& m, const CameraPose& left, double baseline_m,
+void computeDisparity(const Terrain& t, const CameraModel& m, const RigidPose& left, double baseline_m,
                       DisparityTruth& out) {
     StereoTruthRequest r;
     r.terrain = &t;
@@ -330,7 +330,7 @@ TEST(SimRender, RectifiedDisparityOverThePlaneIsAnalytic) {
     const TerrainParams p = planeParams();
     const Terrain& t = buildTerrain(p);
     const CameraModel m = makePinhole(kW, kH, kHfovDeg);
-    const CameraPose left = groundView(p.base_elevation_m);
+    const RigidPose left = groundView(p.base_elevation_m);
     const double baseline_m = 0.3;
     DisparityTruth d;
     computeDisparity(t, m, left, baseline_m, d);
@@ -357,11 +357,11 @@ TEST(SimRender, RectifiedDisparityOverThePlaneIsAnalytic) {
 TEST(SimRender, DisparityLeadsToTheSamePointInTheRightTruth) {
     const Terrain& t = buildTerrain(smallMarsParams());
     const CameraModel m = makePinhole(kW, kH, kHfovDeg);
-    const CameraPose left = groundView(t.elevationAt(0.0, 0.0));
+    const RigidPose left = groundView(t.elevationAt(0.0, 0.0));
     const double baseline_m = 0.4;
     DisparityTruth d;
     computeDisparity(t, m, left, baseline_m, d);
-    const CameraPose right = rightPoseOfRectifiedPair(left, baseline_m);
+    const RigidPose right = rightPoseOfRectifiedPair(left, baseline_m);
     Frame fr;
     render(request(t, m, right, noiselessSensor(8)), fr);
     int visible = 0;
@@ -378,7 +378,7 @@ TEST(SimRender, DisparityLeadsToTheSamePointInTheRightTruth) {
             const Vec3 p_left = o + dir * (static_cast<double>(d.depth[i]) / dir.dot(opticalAxisSite(m, left)));
             const double xr = x - static_cast<double>(d.disparity[i]);
             Vec2 pixel;
-            ASSERT_TRUE(projectPoint(m, right.R_site_from_ref.transpose() * (p_left - right.position_site_m), pixel).isOk());
+            ASSERT_TRUE(projectPoint(m, right.R.transpose() * (p_left - right.t_m), pixel).isOk());
             EXPECT_NEAR(pixel.x(), xr, 1e-3);
             EXPECT_NEAR(pixel.y(), y, 1e-3);
             const auto x0 = static_cast<std::int32_t>(std::floor(xr));
@@ -399,11 +399,11 @@ TEST(SimRender, OcclusionCodesAgreeWithTheAnalyticDome) {
     const TerrainParams p = domeParams();
     const Terrain& t = buildTerrain(p);
     const CameraModel m = makePinhole(kW, kH, kHfovDeg);
-    const CameraPose left = poseLookingAt(Vec3(0.0, -0.5, -1.0), Vec3(4.0, 0.0, 0.0));
+    const RigidPose left = poseLookingAt(Vec3(0.0, -0.5, -1.0), Vec3(4.0, 0.0, 0.0));
     const double baseline_m = 0.6;
     DisparityTruth d;
     computeDisparity(t, m, left, baseline_m, d);
-    const Vec3 rc = rightPoseOfRectifiedPair(left, baseline_m).position_site_m;
+    const Vec3 rc = rightPoseOfRectifiedPair(left, baseline_m).t_m;
     int occluded = 0;
     int agree = 0;
     int compared = 0;
@@ -670,7 +670,7 @@ TEST(SimRender, BadRequestsAreRejectedWithAReason) {
     bad.lighting.to_sun_site = Vec3(0.0, 0.0, -2.0);
     EXPECT_EQ(renderFrame(bad, f.output(), nullptr).code(), StatusCode::kInvalidArgument);
     bad = r;
-    bad.pose.R_site_from_ref(0, 0) = 2.0;
+    bad.pose.R(0, 0) = 2.0;
     EXPECT_EQ(renderFrame(bad, f.output(), nullptr).code(), StatusCode::kInvalidArgument);
     bad = r;
     bad.first_row = 60;

@@ -65,8 +65,8 @@ Scenario parseOk(const std::string& text) {
     return s;
 }
 
-Vec3 centreOf(const ScenarioFrame& f) { return f.camera_pose.position_site_m; }
-Vec3 axisOf(const ScenarioFrame& f) { return f.camera_pose.R_site_from_ref * Vec3::UnitZ(); }
+Vec3 centreOf(const ScenarioFrame& f) { return f.camera_pose.t_m; }
+Vec3 axisOf(const ScenarioFrame& f) { return f.camera_pose.R * Vec3::UnitZ(); }
 Vec3 positionOf(const VehiclePose& p) { return Vec3(p.position_m[0], p.position_m[1], p.position_m[2]); }
 Quat attitudeOf(const VehiclePose& p) {
     return Quat(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
@@ -265,8 +265,8 @@ TEST_F(PlaneWorld, StereoPairIsParallelIdenticalAndHasTheRequestedBaseline) {
     const ScenarioFrame& r = frames.frames[3];
     EXPECT_EQ(l.role, FrameRole::kStereoLeft);
     EXPECT_EQ(r.role, FrameRole::kStereoRight);
-    EXPECT_EQ(l.camera_pose.R_site_from_ref, r.camera_pose.R_site_from_ref);
-    const Vec3 in_left = l.camera_pose.R_site_from_ref.transpose() * (centreOf(r) - centreOf(l));
+    EXPECT_EQ(l.camera_pose.R, r.camera_pose.R);
+    const Vec3 in_left = l.camera_pose.R.transpose() * (centreOf(r) - centreOf(l));
     EXPECT_NEAR(in_left.x(), 0.42, 1e-12);
     EXPECT_NEAR(in_left.tail<2>().norm(), 0.0, 1e-12);
     EXPECT_EQ(std::memcmp(&l.model, &r.model, sizeof(CameraModel)), 0);

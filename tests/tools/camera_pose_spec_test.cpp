@@ -34,6 +34,33 @@ TEST(CameraPoseSpec, IndexPicksTheLineWithThatFrameIndex) {
     EXPECT_DOUBLE_EQ(p.value.position_m[2], -1.9);
 }
 
+// The one conversion of the file record: the quaternion (cos 45, 0, 0, sin 45) turns the
+// camera 90 degrees about the site's z axis (its x axis onto the site's y), the position is
+// taken as it is; writing the pose back gives the same record.
+TEST(CameraPoseRecord, SiteFromCamAndBack) {
+    SimCameraPose p;
+    p.position_m[0] = 4.5;
+    p.position_m[1] = -0.25;
+    p.position_m[2] = -2.0;
+    p.attitude_wxyz[0] = 0.70710678118654752;
+    p.attitude_wxyz[3] = 0.70710678118654752;
+    const RigidPose site_from_cam = siteFromCam(p);
+    EXPECT_NEAR((site_from_cam.R * Vec3::UnitX() - Vec3::UnitY()).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((site_from_cam.R * Vec3::UnitZ() - Vec3::UnitZ()).norm(), 0.0, 1e-15);
+    EXPECT_EQ(site_from_cam.t_m, Vec3(4.5, -0.25, -2.0));
+
+    SimCameraPose back;
+    back.frame_index = 7U;
+    back.camera = "mast";
+    back.timestamp_ns = 2000U;
+    setSiteFromCam(back, site_from_cam);
+    EXPECT_EQ(back.frame_index, 7U);
+    EXPECT_EQ(back.camera, "mast");
+    EXPECT_EQ(back.timestamp_ns, 2000U);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(back.position_m[i], p.position_m[i]);
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(back.attitude_wxyz[i], p.attitude_wxyz[i], 1e-15) << i;
+}
+
 TEST(CameraPoseSpec, APlainFileMustHoldExactlyOnePose) {
     TempDir dir;
     const std::string one = dir.file("one.txt");

@@ -162,10 +162,10 @@ TEST(VtmSimRender, WritesEveryDocumentedFileAndItReadsBackAsComputedInProcess) {
     ASSERT_TRUE(poses.ok) << poses.error;
     ASSERT_EQ(poses.value.size(), 4U);
     for (const SimCameraPose& p : poses.value) {
-        const sim::CameraPose& truth_pose = world.frames->frames[p.frame_index].camera_pose;
-        for (int i = 0; i < 3; ++i) EXPECT_EQ(p.position_m[i], truth_pose.position_site_m[i]);
-        const Quat q(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
-        EXPECT_LT((q.toRotationMatrix() - truth_pose.R_site_from_ref).norm(), 1e-12);
+        const RigidPose& site_from_cam = world.frames->frames[p.frame_index].camera_pose;
+        const RigidPose read_back = siteFromCam(p);
+        for (int i = 0; i < 3; ++i) EXPECT_EQ(read_back.t_m[i], site_from_cam.t_m[i]);
+        EXPECT_LT((read_back.R - site_from_cam.R).norm(), 1e-12);
     }
 }
 

@@ -52,11 +52,6 @@ CommandRun runTool(const test::TempDir& dir, const char* exe, const std::string&
     return r;
 }
 
-Mat3 rotationOf(const SimCameraPose& p) {
-    return Quat(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]).toRotationMatrix();
-}
-Vec3 positionOf(const SimCameraPose& p) { return Vec3(p.position_m[0], p.position_m[1], p.position_m[2]); }
-
 double angleDeg(const Mat3& a, const Mat3& b) {
     const double c = std::fmax(-1.0, std::fmin(1.0, 0.5 * ((a.transpose() * b).trace() - 1.0)));
     return std::acos(c) * 57.29577951308232;
@@ -64,8 +59,9 @@ double angleDeg(const Mat3& a, const Mat3& b) {
 
 // Relative pose X_2 = R X_1 + t of two camera poses.
 void relative(const SimCameraPose& p1, const SimCameraPose& p2, Mat3& R, Vec3& t) {
-    R = rotationOf(p2).transpose() * rotationOf(p1);
-    t = rotationOf(p2).transpose() * (positionOf(p1) - positionOf(p2));
+    const RigidPose cam2_from_cam1 = relativePose(siteFromCam(p1), siteFromCam(p2));
+    R = cam2_from_cam1.R;
+    t = cam2_from_cam1.t_m;
 }
 
 // A 512 x 512 rover pair 2 m apart (rover_wide_baseline's world), rendered once.
@@ -102,16 +98,14 @@ test::TempDir* WideBaselineCli::dir_ = nullptr;
 // Odometry-like error on camera 2 of the rendered pair: 2 deg of heading (about the site's
 // vertical) and 5 % of the baseline sideways.
 SimCameraPose spoiledPose2(const SimCameraPose& p1, const SimCameraPose& p2) {
-    SimCameraPose spoiled = p2;
     const Mat3 yaw = Eigen::AngleAxisd(2.0 / 57.29577951308232, Vec3::UnitZ()).toRotationMatrix();
-    const Quat q(yaw * rotationOf(p2));
-    spoiled.attitude_wxyz[0] = q.w();
-    spoiled.attitude_wxyz[1] = q.x();
-    spoiled.attitude_wxyz[2] = q.y();
-    spoiled.attitude_wxyz[3] = q.z();
-    const Vec3 base = positionOf(p2) - positionOf(p1);
-    const Vec3 side = base.cross(Vec3::UnitZ()).normalized() * (0.05 * base.norm());
-    for (int i = 0; i < 3; ++i) spoiled.position_m[i] += side[i];
+    const RigidPose site_from_cam1 = siteFromCam(p1);
+    RigidPose site_from_cam2 = siteFromCam(p2);
+    const Vec3 base = site_from_cam2.t_m - site_from_cam1.t_m;
+    site_from_cam2.R = yaw * site_from_cam2.R;
+    site_from_cam2.t_m += base.cross(Vec3::UnitZ()).normalized() * (0.05 * base.norm());
+    SimCameraPose spoiled = p2;
+    setSiteFromCam(spoiled, site_from_cam2);
     return spoiled;
 }
 
@@ -197,7 +191,7 @@ TEST_F(WideBaselineCli, RefineReportsTheRangeOfItsInliersAsTheRendererHasIt) {
     // (z^2 * 0.5 px / (fx * baseline)): a 2 m baseline resolves 200 m points to about 8 %.
     CameraModel cam{};
     ASSERT_TRUE(readCameraModelFile(sim("mast.cmod"), cam).ok);
-    const double baseline_m = (positionOf(p2.value) - positionOf(p1.value)).norm();
+    const double baseline_m = (siteFromCam(p2.value).t_m - siteFromCam(p1.value).t_m).norm();
     const auto tolerance = [&](double z) { return 0.05 * z + z * z * 0.5 / (cam.fx_px * baseline_m); };
     const std::pair<int, double> columns[] = {{1, 0.1}, {2, 0.5}, {3, 0.9}};  // report column, percentile
     for (const auto& [k, q] : columns) {
@@ -234,6 +228,9 @@ TEST_F(WideBaselineCli, RectifyWritesAPairWhoseTrueCorrespondencesShareTheirRows
     const std::size_t at = report.find("| disparity range");
     ASSERT_NE(at, std::string::npos) << report;
     ASSERT_EQ(std::sscanf(report.c_str() + report.find("| ", at + 3) + 2, "%d:%d", &d_min, &d_max), 2) << report;
+    const RigidPose site_from_cam1 = siteFromCam(p1.value);
+    const RigidPose site_from_rect1 = siteFromCam(r1.value);
+    const RigidPose site_from_rect2 = siteFromCam(r2.value);
     double sum2 = 0.0;
     int n = 0;
     int in_range = 0;
@@ -243,11 +240,11 @@ TEST_F(WideBaselineCli, RectifyWritesAPairWhoseTrueCorrespondencesShareTheirRows
             if (!std::isfinite(z)) continue;
             CameraRay ray;
             ASSERT_TRUE(backProjectPixel(raw, Vec2(x, y), ray).isOk());
-            const Vec3 p_site = positionOf(p1.value) +
-                                rotationOf(p1.value) * (ray.origin_m + ray.direction * (static_cast<double>(z) / ray.direction.z()));
+            const Vec3 p_site =
+                transformPoint(site_from_cam1, ray.origin_m + ray.direction * (static_cast<double>(z) / ray.direction.z()));
             Vec2 a, b;
-            const Vec3 pa = rotationOf(r1.value).transpose() * (p_site - positionOf(r1.value));
-            const Vec3 pb = rotationOf(r2.value).transpose() * (p_site - positionOf(r2.value));
+            const Vec3 pa = site_from_rect1.R.transpose() * (p_site - site_from_rect1.t_m);
+            const Vec3 pb = site_from_rect2.R.transpose() * (p_site - site_from_rect2.t_m);
             if (!projectPoint(m1, pa, a).isOk() || !projectPoint(m2, pb, b).isOk()) continue;
             sum2 += (a.y() - b.y()) * (a.y() - b.y());
             ++n;

@@ -44,7 +44,7 @@ const vtm::sim::Terrain* world() {
     return terrain.built() ? &terrain : nullptr;
 }
 
-vtm::sim::CameraPose mastPose(const vtm::sim::Terrain& t) {
+vtm::RigidPose mastPose(const vtm::sim::Terrain& t) {
     const double ground = t.elevationAt(0.0, 0.0);
     const double down = 25.0 * 3.14159265358979323846 / 180.0;
     const vtm::Vec3 eye(0.0, 0.0, -(ground + 1.9));

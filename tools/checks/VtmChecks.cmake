@@ -4,7 +4,8 @@
 #     include(${CMAKE_CURRENT_SOURCE_DIR}/tools/checks/VtmChecks.cmake)
 # Targets:  vtm_budget (Markdown table + budget.json in the build directory),
 #           vtm_policy (include rules + forbidden symbols of this target's libraries).
-# Tests:    policy.sources, policy.binaries, budget.stack (recursion / dynamic frames).
+# Tests:    policy.sources, policy.binaries, budget.stack (recursion / dynamic frames),
+#           policy.selftest (the include rules on small trees, tools/checks/policy_test.py).
 # docs/budgets.md, docs/static-analysis.md.
 # The plain interpreter path, not the imported Python3::Interpreter target: ctest would
 # run an imported executable through CMAKE_CROSSCOMPILING_EMULATOR in cross builds.
@@ -33,6 +34,7 @@ if(VTM_BUILD_TESTS)
   add_test(NAME policy.sources COMMAND ${Python3_EXECUTABLE} ${_vtm_policy} sources ${CMAKE_SOURCE_DIR})
   add_test(NAME policy.binaries COMMAND ${Python3_EXECUTABLE} ${_vtm_policy} binaries ${CMAKE_BINARY_DIR})
   add_test(NAME budget.stack COMMAND ${Python3_EXECUTABLE} ${_vtm_budget} --top 0 ${CMAKE_BINARY_DIR})
+  add_test(NAME policy.selftest COMMAND ${Python3_EXECUTABLE} ${CMAKE_CURRENT_LIST_DIR}/policy_test.py)
   # The tests read the archives: run them after the libraries are built (ctest after build).
-  set_tests_properties(policy.sources policy.binaries budget.stack PROPERTIES LABELS "checks")
+  set_tests_properties(policy.sources policy.binaries policy.selftest budget.stack PROPERTIES LABELS "checks")
 endif()

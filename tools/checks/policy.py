@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """policy: layering and flight-rule checks on the VTM source tree and on built flight libraries.
 
-    policy.py sources  REPO_ROOT          # include rules (layering, allowed std headers)
+    policy.py sources  REPO_ROOT          # include rules (layering, allowed std headers; tools/ and
+                                          # tests/: no relative includes, tools/ not on tests/)
     policy.py binaries BUILD_DIR [...]    # forbidden symbols in the flight libraries' objects
     policy.py all      REPO_ROOT BUILD_DIR [...]
 
@@ -95,6 +96,9 @@ class Zone:
     allowed: tuple                 # regexes of project headers this zone may include
     system: re.Pattern | None = None
     why: str = ""
+    # fsw/ module headers (vtm/<module>/...) the zone may include besides `allowed`:
+    # "own" (the module of the including file), "all" (every folder of fsw/) or "".
+    modules: str = ""
 
 
 def _rx(*patterns: str) -> tuple:
@@ -102,11 +106,20 @@ def _rx(*patterns: str) -> tuple:
 
 
 ZONES = [
-    # Executives: the only part of fsw/ that sees hal interfaces (hal::Camera&, ...).
-    Zone("fsw/app/", frozenset(FLIGHT_STD), _rx(r"^vtm/", HAL_INTERFACE.pattern),
-         why="fsw/app: vtm/ headers and hal interfaces only"),
-    Zone("fsw/", frozenset(FLIGHT_STD), _rx(r"^vtm/"),
-         why="fsw/: vtm/ headers, Eigen via vtm/core/eigen.hpp, allowed std headers"),
+    # The layering of docs/flight-rules.md R12: the two fsw/ `why` texts are quoted there word
+    # for word (tools/checks/policy_test.py checks it).
+    # Executives: the only part of fsw/ that sees hal interfaces (hal::Camera&, ...) and the
+    # only one that combines modules.
+    Zone("fsw/app/", frozenset(FLIGHT_STD), _rx(HAL_INTERFACE.pattern),
+         why="fsw/app: vtm/core/, vtm/app/ and the modules' vtm/<module>/ headers, and the hal interfaces "
+             "hal/*.hpp (never a hal driver, sim/, tools/ or OpenCV)",
+         modules="all"),
+    # A module (fsw/core, fsw/stereo, ...): fsw/core and itself; modules do not include each other.
+    Zone("fsw/", frozenset(FLIGHT_STD), _rx(r"^vtm/core/"),
+         why="fsw/<module>: vtm/core/ (Eigen through vtm/core/eigen.hpp) and its own vtm/<module>/ "
+             "headers; modules do not include each other (shared types go to fsw/core, fsw/app combines "
+             "modules)",
+         modules="own"),
     Zone("hal/include/", frozenset(FLIGHT_STD), _rx(r"^vtm/core/", HAL_INTERFACE.pattern),
          why="hal interfaces: fsw/core and other hal interfaces only"),
     Zone("hal/src/", frozenset(FLIGHT_STD), _rx(r"^vtm/core/", HAL_INTERFACE.pattern),
@@ -137,6 +150,9 @@ ALWAYS_FORBIDDEN = [
     (re.compile(r"^tools/|^CLI/"), "ground tools are not flight code"),
     (re.compile(r"^(gtest|gmock)/"), "test frameworks belong to tests/"),
 ]
+
+# The folders of fsw/ (core, app and the modules), set by check_sources from the tree.
+FSW_MODULES: set[str] = set()
 
 # Direct Eigen includes are allowed only in the gate header (which configures it for flight).
 EIGEN_INCLUDE = re.compile(r"^(Eigen|unsupported/Eigen)(/|$)")
@@ -202,6 +218,11 @@ def check_include(rel: str, path: Path, kind: str, header: str) -> str | None:
         return None
     if any(rx.search(header) for rx in zone.allowed):
         return None
+    if zone.modules:
+        names = FSW_MODULES if zone.modules == "all" else {rel.split("/")[1]}
+        m = FSW_MODULE_HEADER.match(header)
+        if m and m.group(1) in names:
+            return None
     if header.startswith("sim/"):
         return f"include-layer: {header}: sim/ may be used only by hal/sim"
     if HAL_DRIVER_RE.match(header):
@@ -210,6 +231,7 @@ def check_include(rel: str, path: Path, kind: str, header: str) -> str | None:
 
 
 HAL_DRIVER_RE = re.compile(r"^hal/(" + "|".join(HAL_DRIVERS) + r")/")
+FSW_MODULE_HEADER = re.compile(r"^vtm/([a-z_]+)/")
 
 # =============================================================================================
 # Rule table 2b: code rules on flight sources (fsw/, hal/), comments stripped.
@@ -249,6 +271,8 @@ def check_sources(root: Path) -> list[str]:
     findings = []
     if not (root / "fsw").is_dir():
         raise UsageError(f"{root}: no fsw/ directory (not the repository root?)")
+    FSW_MODULES.clear()
+    FSW_MODULES.update(d.name for d in (root / "fsw").iterdir() if d.is_dir())
     for top in ("fsw", "hal", "sim"):
         for path in sorted((root / top).rglob("*")):
             if path.suffix not in SOURCE_EXT or not path.is_file():
@@ -267,6 +291,84 @@ def check_sources(root: Path) -> list[str]:
                 problem = check_include(rel, path, m.group(1), m.group(2).strip())
                 if problem:
                     findings.append(f"{rel}:{lineno}: {problem}")
+    return findings + check_ground(root)
+
+
+# =============================================================================================
+# Rule table 2c: every C/C++ source of the tree (fsw/, hal/, sim/, tools/, tests/), and the
+# CMake files of tools/.
+#  - include-relative: no ".." in an #include path. A header of another folder is reached
+#    through the include path of a library the target links, so the dependency shows in
+#    CMake (a "../vtm/exit_codes.hpp" hid that vtm-sim used a header of tools/vtm).
+#  - tools-tests: tools/ never depends on tests/: no include of a header that exists only
+#    under tests/ (tests/support, tests/<area>/include, ...) or is named by a tests/ path,
+#    and no tools/ CMake file names a tests/ path or links a library defined under tests/
+#    (shared ground code such as the OpenCV peers lives in tools/, e.g. tools/peer).
+# =============================================================================================
+GROUND_TOPS = ("fsw", "hal", "sim", "tools", "tests")
+GROUND_EXT = SOURCE_EXT | {".c"}
+CMAKE_LIBRARY_RE = re.compile(r"\badd_library\s*\(\s*([A-Za-z0-9_.+-]+)")
+CMAKE_TESTS_PATH_RE = re.compile(r"(\$\{(PROJECT_SOURCE_DIR|CMAKE_SOURCE_DIR|CMAKE_CURRENT_SOURCE_DIR|"
+                                 r"CMAKE_CURRENT_LIST_DIR)\}|\.\.)/(\.\./)*tests(/|\b)")
+
+
+def _cmake_files(top: Path) -> list[Path]:
+    return sorted(p for p in top.rglob("*") if p.is_file() and (p.name == "CMakeLists.txt" or p.suffix == ".cmake"))
+
+
+def _strip_cmake_comments(text: str) -> list[str]:
+    return [line.split("#", 1)[0] for line in text.splitlines()]
+
+
+def check_ground(root: Path) -> list[str]:
+    findings = []
+    sources = {top: sorted(p for p in (root / top).rglob("*") if p.is_file() and p.suffix in GROUND_EXT)
+               for top in GROUND_TOPS if (root / top).is_dir()}
+    # Headers that exist under tests/ and nowhere else: their include names are every
+    # trailing part of the path (tests/peer/include/vtm/peer/x.hpp -> "vtm/peer/x.hpp", ...).
+    def suffixes(paths: list[Path]) -> set[str]:
+        out = set()
+        for p in paths:
+            parts = p.relative_to(root).parts
+            out.update("/".join(parts[i:]) for i in range(1, len(parts)))
+        return out
+    test_headers = suffixes(sources.get("tests", []))
+    other_headers = suffixes([p for top, ps in sources.items() if top != "tests" for p in ps])
+    only_in_tests = test_headers - other_headers
+    for top, paths in sources.items():
+        for path in paths:
+            rel = path.relative_to(root).as_posix()
+            lines = _strip_comments(path.read_text(errors="replace").splitlines())
+            for lineno, line in enumerate(lines, 1):
+                m = INCLUDE_RE.match(line)
+                if m is None:
+                    continue
+                header = m.group(2).strip()
+                if ".." in header.split("/"):
+                    findings.append(f"{rel}:{lineno}: include-relative: \"{header}\": no '..' in an include "
+                                    f"path; include the header by the include path of the library that holds it")
+                    continue
+                if top == "tools" and (header.startswith("tests/") or
+                                       (header in only_in_tests and not (path.parent / header).is_file())):
+                    findings.append(f"{rel}:{lineno}: tools-tests: {header} is a header of tests/; tools/ never "
+                                    f"depends on tests/ (move shared code to a tools/ library)")
+    if (root / "tests").is_dir() and (root / "tools").is_dir():
+        test_libraries = set()
+        for cm in _cmake_files(root / "tests"):
+            for line in _strip_cmake_comments(cm.read_text(errors="replace")):
+                test_libraries.update(n for n in CMAKE_LIBRARY_RE.findall(line) if "$" not in n)
+        names = re.compile(r"(?<![A-Za-z0-9_.+-])(" + "|".join(sorted(map(re.escape, test_libraries))) +
+                           r")(?![A-Za-z0-9_.+-])") if test_libraries else None
+        for cm in _cmake_files(root / "tools"):
+            rel = cm.relative_to(root).as_posix()
+            for lineno, line in enumerate(_strip_cmake_comments(cm.read_text(errors="replace")), 1):
+                if CMAKE_TESTS_PATH_RE.search(line):
+                    findings.append(f"{rel}:{lineno}: tools-tests: names a path under tests/; tools/ never "
+                                    f"depends on tests/")
+                hit = names.search(line) if names else None
+                if hit:
+                    findings.append(f"{rel}:{lineno}: tools-tests: {hit.group(1)} is a library of tests/; "
+                                    f"tools/ never depends on tests/ (move it to a tools/ library)")
     return findings
 
 

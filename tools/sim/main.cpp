@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "../vtm/exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "render_command.hpp"
 #include "serve_command.hpp"
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "../vtm/exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "sim/terrain.hpp"
@@ -269,12 +269,7 @@ bool writeCameraFiles(const World& w, const std::vector<bool>& selected, const s
             p.frame_index = f.index;
             p.camera = cameraName(w.scenario, role);
             p.timestamp_ns = f.timestamp_ns;
-            const Quat q(f.camera_pose.R_site_from_ref);
-            for (int i = 0; i < 3; ++i) p.position_m[i] = f.camera_pose.position_site_m[i];
-            p.attitude_wxyz[0] = q.w();
-            p.attitude_wxyz[1] = q.x();
-            p.attitude_wxyz[2] = q.y();
-            p.attitude_wxyz[3] = q.z();
+            ground::setSiteFromCam(p, f.camera_pose);
             poses.push_back(p);
         }
         if (!manifest.empty() && !writeText(outdir + "/" + cameraName(w.scenario, role) + ".frames", manifest, error)) {

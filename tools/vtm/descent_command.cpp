@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/descent/plane_sweep.hpp"
 #include "vtm/ground/camera_model_io.hpp"
@@ -30,10 +30,10 @@ int fail(int code, const std::string& message) {
 }
 
 descent::CameraPose toPose(const ground::SimCameraPose& p) {
-    const Quat q(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
+    const RigidPose site_from_cam = ground::siteFromCam(p);
     descent::CameraPose c;
-    c.R_site_from_cam = q.normalized().toRotationMatrix();
-    c.position_site_m = Vec3(p.position_m[0], p.position_m[1], p.position_m[2]);
+    c.R_site_from_cam = site_from_cam.R;
+    c.position_site_m = site_from_cam.t_m;
     return c;
 }
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "vtm/ground/disparity_evaluation.hpp"
 #include "vtm/ground/image_io.hpp"
 #include "vtm/ground/middlebury.hpp"

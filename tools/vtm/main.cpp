@@ -17,7 +17,7 @@
 
 #include "build_info.hpp"
 #include "eval_command.hpp"
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "memory_budget.hpp"
 #include "stereo_command.hpp"
 #include "wide_baseline_command.hpp"

@@ -15,7 +15,7 @@
 #include "run_drivers.hpp"
 #include "run_rover.hpp"
 #include "run_target.hpp"
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "hal/event_log.hpp"
 #include "hal/posix/monotonic_clock.hpp"
 #include "hal/sim/sim_camera.hpp"

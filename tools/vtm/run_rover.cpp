@@ -126,9 +126,9 @@ Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, 
     const sim::ScenarioFrame* f1 = frameAt(w, p.frame1.timestamp_ns);
     const sim::ScenarioFrame* f2 = frameAt(w, p.frame2.timestamp_ns);
     if (f1 == nullptr || f2 == nullptr) return m;
-    const Mat3 R_true = f2->camera_pose.R_site_from_ref.transpose() * f1->camera_pose.R_site_from_ref;
-    const Vec3 t_true = f2->camera_pose.R_site_from_ref.transpose() *
-                        (f1->camera_pose.position_site_m - f2->camera_pose.position_site_m);
+    const Mat3 R_true = f2->camera_pose.R.transpose() * f1->camera_pose.R;
+    const Vec3 t_true = f2->camera_pose.R.transpose() *
+                        (f1->camera_pose.t_m - f2->camera_pose.t_m);
     m.rot_before_deg = kDegPerRad * motion::rotationAngleRad(p.odometry_R_2_from_1, R_true);
     m.rot_after_deg = kDegPerRad * motion::rotationAngleRad(p.motion.R_b_from_a, R_true);
     m.dir_before_deg = kDegPerRad * motion::directionAngleRad(p.odometry_t_2_from_1_m, t_true);
@@ -223,8 +223,8 @@ app::CameraMount cameraMountOf(const sim::ScenarioFrame& f) {
     const Mat3 R_site_from_vehicle = rotationOf(f.true_pose.attitude_wxyz);
     const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
     app::CameraMount m;
-    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R_site_from_ref;
-    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.position_site_m - vehicle);
+    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R;
+    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.t_m - vehicle);
     return m;
 }
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "build_info.hpp"
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "run_drivers.hpp"
 
 extern char** environ;

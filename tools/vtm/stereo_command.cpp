@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/ground/disparity_colormap.hpp"
 #include "vtm/ground/image_io.hpp"

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <vector>
 
-#include "exit_codes.hpp"
+#include "vtm/ground/exit_codes.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/features/features.hpp"
@@ -44,22 +44,6 @@ struct PairInputs {
     Mat3 R_2_from_1 = Mat3::Identity();  // X_2 = R X_1 + t (camera reference frames)
     Vec3 t_2_from_1_m = Vec3::Zero();
 };
-
-Mat3 rotationOf(const SimCameraPose& p) {
-    const Quat q(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
-    return q.normalized().toRotationMatrix();
-}
-
-Vec3 positionOf(const SimCameraPose& p) { return Vec3(p.position_m[0], p.position_m[1], p.position_m[2]); }
-
-void setPose(SimCameraPose& p, const Mat3& R_site_from_ref, const Vec3& position_site_m) {
-    const Quat q(R_site_from_ref);
-    p.attitude_wxyz[0] = q.w();
-    p.attitude_wxyz[1] = q.x();
-    p.attitude_wxyz[2] = q.y();
-    p.attitude_wxyz[3] = q.z();
-    for (int i = 0; i < 3; ++i) p.position_m[i] = position_site_m[i];
-}
 
 std::string sizeText(const GreyImage& img) { return std::to_string(img.width) + "x" + std::to_string(img.height); }
 
@@ -112,10 +96,10 @@ std::string loadPair(const WideBaselineOptions& o, PairInputs& in) {
     if (!p2.ok) return "--pose2 " + p2.error;
     in.pose1 = p1.value;
     in.pose2 = p2.value;
-    const Mat3 R1 = rotationOf(in.pose1);
-    const Mat3 R2 = rotationOf(in.pose2);
-    in.R_2_from_1 = R2.transpose() * R1;
-    in.t_2_from_1_m = R2.transpose() * (positionOf(in.pose1) - positionOf(in.pose2));
+    const RigidPose site_from_1 = ground::siteFromCam(in.pose1);
+    const RigidPose site_from_2 = ground::siteFromCam(in.pose2);
+    in.R_2_from_1 = site_from_2.R.transpose() * site_from_1.R;
+    in.t_2_from_1_m = site_from_2.R.transpose() * (site_from_1.t_m - site_from_2.t_m);
     if (!(in.t_2_from_1_m.norm() > 1e-6)) {
         return "--pose1 and --pose2 put both cameras at the same place: no baseline";
     }
@@ -177,7 +161,7 @@ std::string detectAndMatch(const WideBaselineOptions& o, const PairInputs& in, R
     // The site's up (-z) seen from camera 1 (its attitude is known far better than its
     // position): the local terrain's normal for the template warp, and the ground plane of
     // the visibility mask.
-    p.surface_normal_a = rotationOf(in.pose1).transpose() * Vec3(0.0, 0.0, -1.0);
+    p.surface_normal_a = ground::siteFromCam(in.pose1).R.transpose() * Vec3(0.0, 0.0, -1.0);
     GreyImage mask;
     if (o.mast_height_m > 0.0) {
         mask = GreyImage(in.image1.width, in.image1.height);
@@ -230,11 +214,12 @@ std::string refineMotion(const PairInputs& in, RefineRun& run) {
 
 // The refined pose of camera 2: camera 1 stays where it was, the baseline keeps its length.
 SimCameraPose refinedPose2(const PairInputs& in, const motion::MotionResult& r) {
-    const Mat3 R1 = rotationOf(in.pose1);
-    const Mat3 R2 = R1 * r.R_b_from_a.transpose();
-    const Vec3 c2 = positionOf(in.pose1) - R2 * r.t_b_from_a_m;
+    const RigidPose site_from_1 = ground::siteFromCam(in.pose1);
+    RigidPose site_from_2;
+    site_from_2.R = site_from_1.R * r.R_b_from_a.transpose();
+    site_from_2.t_m = site_from_1.t_m - site_from_2.R * r.t_b_from_a_m;
     SimCameraPose p = in.pose2;
-    setPose(p, R2, c2);
+    ground::setSiteFromCam(p, site_from_2);
     return p;
 }
 
@@ -427,17 +412,21 @@ std::string runRectifier(const PairInputs& in, RectifyRun& run) {
 
 // Site poses of the two rectified cameras (their optical frames).
 void rectifiedPoses(const PairInputs& in, const RectifyRun& run, SimCameraPose& p1, SimCameraPose& p2) {
-    const Mat3 R1 = rotationOf(in.pose1);
-    const Mat3 R_site_from_rect = R1 * run.pair.R_rect_from_a.transpose();
+    const RigidPose site_from_1 = ground::siteFromCam(in.pose1);
+    RigidPose site_from_rect1;
+    site_from_rect1.R = site_from_1.R * run.pair.R_rect_from_a.transpose();
     // Camera 1's projection centre in its reference frame: the rectified frame's origin is
     // there (models with C != 0 keep it: centre = R_rect_from_a (c_a - c_a) = 0).
     rectify::LinearCamera lin;
     const Vec3 c1_ref = rectify::linearizeCamera(in.model1, lin).isOk() ? lin.centre_ref_m : Vec3::Zero();
-    const Vec3 c1_site = positionOf(in.pose1) + R1 * c1_ref;
+    site_from_rect1.t_m = site_from_1.t_m + site_from_1.R * c1_ref;
+    RigidPose site_from_rect2;
+    site_from_rect2.R = site_from_rect1.R;
+    site_from_rect2.t_m = site_from_rect1.t_m + site_from_rect1.R * run.pair.centre_b_rect_m;
     p1 = in.pose1;
     p2 = in.pose2;
-    setPose(p1, R_site_from_rect, c1_site);
-    setPose(p2, R_site_from_rect, c1_site + R_site_from_rect * run.pair.centre_b_rect_m);
+    ground::setSiteFromCam(p1, site_from_rect1);
+    ground::setSiteFromCam(p2, site_from_rect2);
     p1.frame_index = 0U;
     p2.frame_index = 1U;
 }

@@ -28,15 +28,12 @@ Status validateMount(const CameraMount& mount) noexcept {
     return Status::ok();
 }
 
-Status cameraPoseInSite(const hal::PoseEstimate& vehicle, const CameraMount& mount, Mat3& R_site_from_camera,
-                        Vec3& position_site_m) noexcept {
+Status cameraPoseInSite(const hal::PoseEstimate& vehicle, const CameraMount& mount,
+                        RigidPose& site_from_camera) noexcept {
     VTM_RETURN_IF_ERROR(hal::validatePose(vehicle));
-    const Quat q(vehicle.attitude_wxyz[0], vehicle.attitude_wxyz[1], vehicle.attitude_wxyz[2],
-                 vehicle.attitude_wxyz[3]);
-    const Mat3 R_site_from_vehicle = q.normalized().toRotationMatrix();
-    const Vec3 t(vehicle.position_m[0], vehicle.position_m[1], vehicle.position_m[2]);
-    R_site_from_camera = R_site_from_vehicle * mount.R_vehicle_from_camera;
-    position_site_m = R_site_from_vehicle * mount.position_vehicle_m + t;
+    const RigidPose site_from_vehicle = hal::siteFromVehicle(vehicle);
+    site_from_camera.R = site_from_vehicle.R * mount.R_vehicle_from_camera;
+    site_from_camera.t_m = site_from_vehicle.R * mount.position_vehicle_m + site_from_vehicle.t_m;
     return Status::ok();
 }
 

@@ -169,9 +169,17 @@ Status DescentMapper::planGeometry() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     descent::PairGeometry& g = products_.geometry;
     g.camera = model_;
-    Status st = cameraPoseInSite(pose1_, config_.mount, g.pose1.R_site_from_cam, g.pose1.position_site_m);
+    RigidPose site_from_cam1;
+    RigidPose site_from_cam2;
+    Status st = cameraPoseInSite(pose1_, config_.mount, site_from_cam1);
     if (st.isOk()) {
-        st = cameraPoseInSite(pose2_, config_.mount, g.pose2.R_site_from_cam, g.pose2.position_site_m);
+        g.pose1.R_site_from_cam = site_from_cam1.R;
+        g.pose1.position_site_m = site_from_cam1.t_m;
+        st = cameraPoseInSite(pose2_, config_.mount, site_from_cam2);
+    }
+    if (st.isOk()) {
+        g.pose2.R_site_from_cam = site_from_cam2.R;
+        g.pose2.position_site_m = site_from_cam2.t_m;
     }
     const double h1 = -g.pose1.position_site_m.z();  // site z is down
     const double h2 = -g.pose2.position_site_m.z();

@@ -213,12 +213,18 @@ Status WideBaselineMapper::poseOf(Stage stage, const hal::FrameInfo& info, hal::
 Status WideBaselineMapper::planGeometry() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     WideBaselineProducts& p = products_;
-    Status st = cameraPoseInSite(pose1_, config_.mount, p.R_site_from_cam1, p.position1_site_m);
+    RigidPose site_from_cam1;
+    RigidPose site_from_cam2;
+    Status st = cameraPoseInSite(pose1_, config_.mount, site_from_cam1);
     if (st.isOk()) {
-        st = cameraPoseInSite(pose2_, config_.mount, p.R_site_from_cam2, p.position2_site_m);
+        p.R_site_from_cam1 = site_from_cam1.R;
+        p.position1_site_m = site_from_cam1.t_m;
+        st = cameraPoseInSite(pose2_, config_.mount, site_from_cam2);
     }
     double baseline = 0.0;
     if (st.isOk()) {
+        p.R_site_from_cam2 = site_from_cam2.R;
+        p.position2_site_m = site_from_cam2.t_m;
         // Camera frames: X2 = R X1 + t.
         p.odometry_R_2_from_1 = p.R_site_from_cam2.transpose() * p.R_site_from_cam1;
         p.odometry_t_2_from_1_m = p.R_site_from_cam2.transpose() * (p.position1_site_m - p.position2_site_m);

@@ -4,15 +4,19 @@
 
 #include <cstdint>
 
+#include "vtm/core/pose.hpp"
 #include "vtm/core/status.hpp"
 
 namespace vtm::hal {
 
-// Pose of the vehicle in the site frame: T_site_from_vehicle.
+// Pose of the vehicle in the site frame: site_from_vehicle.
 // Site frame: x north, y east, z down (metres). Attitude: unit quaternion (w, x, y, z)
 // rotating vehicle-frame vectors into the site frame.
 // Covariance: 6x6 row-major over (x, y, z [m], rx, ry, rz [rad]), the rotation part as
 // a small rotation vector applied on the left (site frame).
+// The fields mirror the HIL link's pose record (docs/icd-hil-link.md) and the pose log;
+// code that computes with the pose takes it as a vtm::RigidPose through siteFromVehicle()
+// below, the one place that turns the quaternion into a rotation matrix (docs/hal.md).
 struct PoseEstimate {
     std::uint64_t timestamp_ns = 0U;
     double position_m[3] = {0.0, 0.0, 0.0};
@@ -43,6 +47,11 @@ protected:
 // Checks what every driver must check before handing a pose out: finite numbers,
 // quaternion norm within 1e-6 of 1, covariance diagonal non-negative.
 [[nodiscard]] Status validatePose(const PoseEstimate& pose) noexcept;
+
+// The pose as the shared vocabulary's site_from_vehicle (vtm/core/pose.hpp): R from the
+// attitude quaternion, normalised (Eigen's Quaternion::normalized().toRotationMatrix()),
+// t_m = position_m. For a pose that passed validatePose (the covariance is not carried).
+[[nodiscard]] RigidPose siteFromVehicle(const PoseEstimate& pose) noexcept;
 
 // The pose at time t between two poses, a.timestamp_ns < t < b.timestamp_ns; the same
 // bits on every target (only + - * / and sqrt, no transcendental function):

@@ -7,8 +7,8 @@
 //
 // Frames: site frame x north, y east, z DOWN (metres; elevation = -z). The camera
 // reference frame is the frame of the CameraModel (camera_model.hpp): the optical frame
-// for a pinhole, the frame C/A/H/V are expressed in for CAHV(OR). A CameraPose places that
-// frame in the site: p_site = R_site_from_ref * p_ref + position_site_m.
+// for a pinhole, the frame C/A/H/V are expressed in for CAHV(OR). A vtm::RigidPose
+// site_from_cam (vtm/core/pose.hpp) places that frame in the site: p_site = R p_ref + t_m.
 //
 // Determinism: same inputs => same output bytes on every target (vtm::math only, one
 // random draw per statement, noise generator seeded per (noise_seed, frame_index, row) so
@@ -21,6 +21,7 @@
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/core/image.hpp"
+#include "vtm/core/pose.hpp"
 #include "vtm/core/status.hpp"
 
 namespace vtm::sim {
@@ -30,17 +31,11 @@ class Terrain;  // sim/terrain.hpp
 // Largest frame the renderer accepts (width and height, pixels).
 constexpr std::int32_t kMaxRenderSizePx = 2048;
 
-// The camera reference frame in the site frame (T_site_from_ref).
-struct CameraPose {
-    Mat3 R_site_from_ref = Mat3::Identity();
-    Vec3 position_site_m = Vec3::Zero();
-};
-
 // Pose of a pinhole's optical frame (+z along the view direction, +x to the image right,
 // +y image down) at eye_site_m looking at target_site_m, with the image rows horizontal
 // (no roll: +x is perpendicular to the site's up axis -z). A view straight up or down
 // (no horizontal component) gets +x = site east (y) instead.
-[[nodiscard]] CameraPose poseLookingAt(const Vec3& eye_site_m, const Vec3& target_site_m) noexcept;
+[[nodiscard]] RigidPose poseLookingAt(const Vec3& eye_site_m, const Vec3& target_site_m) noexcept;
 
 // Illumination. Radiometric unit: "electron rate" (e-/s). A Lambertian surface of albedo
 // a facing the sun, not shadowed, seen at the image centre, yields
@@ -107,7 +102,7 @@ struct RenderStats {
 struct FrameRequest {
     const Terrain* terrain = nullptr;
     CameraModel model;               // validated; width/height give the frame size (1..kMaxRenderSizePx)
-    CameraPose pose;
+    RigidPose pose;                  // site_from_cam: the camera reference frame in the site frame
     Lighting lighting;
     SensorParams sensor;
     std::uint32_t frame_index = 0U;  // enters the noise seed: consecutive frames get fresh noise
@@ -143,7 +138,7 @@ enum class DisparityTruthCode : std::uint8_t {
 struct StereoTruthRequest {
     const Terrain* terrain = nullptr;
     CameraModel left_model;      // undistorted pinhole, the rectified model of both cameras
-    CameraPose left_pose;        // left optical frame in the site frame
+    RigidPose left_pose;         // site_from_left: left optical frame in the site frame
     double baseline_m = 0.0;     // > 0
     double max_range_m = 1.0e5;  // > 0
 };
@@ -161,7 +156,7 @@ struct StereoTruthOutput {
 // kSizeMismatch (views).
 [[nodiscard]] Status rectifiedDisparity(const StereoTruthRequest& request, const StereoTruthOutput& out) noexcept;
 
-// The right camera of that pair (R the same, position + R * (baseline_m, 0, 0)).
-[[nodiscard]] CameraPose rightPoseOfRectifiedPair(const CameraPose& left_pose, double baseline_m) noexcept;
+// site_from_right of that pair (R the same, t_m + R * (baseline_m, 0, 0)).
+[[nodiscard]] RigidPose rightPoseOfRectifiedPair(const RigidPose& site_from_left, double baseline_m) noexcept;
 
 }  // namespace vtm::sim

@@ -166,7 +166,7 @@ struct ScenarioFrame {
     VehiclePose true_pose;           // covariance zero
     VehiclePose odometry_pose;       // what the vehicle believes, with its covariance
     CameraModel model{};
-    CameraPose camera_pose{};        // true T_site_from_ref of the camera
+    RigidPose camera_pose{};         // true site_from_cam of the camera
     SensorParams sensor{};           // this frame's exposure, gain and noise seed
     double stereo_baseline_m = 0.0;  // kStereoLeft: the pair's baseline (right = left + R (b, 0, 0))
 };

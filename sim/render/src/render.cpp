@@ -23,18 +23,18 @@ bool finite3(const Vec3& v) noexcept {
     return math::isFinite(v.x()) && math::isFinite(v.y()) && math::isFinite(v.z());
 }
 
-Status validatePose(const CameraPose& pose) noexcept {
+Status validatePose(const RigidPose& pose) noexcept {
     for (int c = 0; c < 3; ++c) {
-        if (!finite3(pose.R_site_from_ref.col(c))) {
-            return Status(StatusCode::kInvalidArgument, "pose.R_site_from_ref: not finite");
+        if (!finite3(pose.R.col(c))) {
+            return Status(StatusCode::kInvalidArgument, "pose.R: not finite");
         }
     }
-    if (!finite3(pose.position_site_m)) {
-        return Status(StatusCode::kInvalidArgument, "pose.position_site_m: not finite");
+    if (!finite3(pose.t_m)) {
+        return Status(StatusCode::kInvalidArgument, "pose.t_m: not finite");
     }
-    const Mat3 e = pose.R_site_from_ref.transpose() * pose.R_site_from_ref - Mat3::Identity();
-    if (e.cwiseAbs().maxCoeff() > 1e-6 || pose.R_site_from_ref.determinant() < 0.0) {
-        return Status(StatusCode::kInvalidArgument, "pose.R_site_from_ref: not a rotation (1e-6)");
+    const Mat3 e = pose.R.transpose() * pose.R - Mat3::Identity();
+    if (e.cwiseAbs().maxCoeff() > 1e-6 || pose.R.determinant() < 0.0) {
+        return Status(StatusCode::kInvalidArgument, "pose.R: not a rotation (1e-6)");
     }
     return Status::ok();
 }
@@ -258,9 +258,9 @@ Status validateLighting(const Lighting& lighting) noexcept {
     return Status::ok();
 }
 
-CameraPose poseLookingAt(const Vec3& eye_site_m, const Vec3& target_site_m) noexcept {
-    CameraPose pose;
-    pose.position_site_m = eye_site_m;
+RigidPose poseLookingAt(const Vec3& eye_site_m, const Vec3& target_site_m) noexcept {
+    RigidPose site_from_cam;
+    site_from_cam.t_m = eye_site_m;
     const Vec3 view = target_site_m - eye_site_m;
     const double n = view.norm();
     VTM_ASSERT(n > 0.0);
@@ -271,10 +271,10 @@ CameraPose poseLookingAt(const Vec3& eye_site_m, const Vec3& target_site_m) noex
     // Straight up or down: the image x axis points east.
     x = xn > 1e-12 ? Vec3(x / xn) : Vec3(Vec3::UnitY());
     const Vec3 y = z.cross(x);
-    pose.R_site_from_ref.col(0) = x;
-    pose.R_site_from_ref.col(1) = y;
-    pose.R_site_from_ref.col(2) = z;
-    return pose;
+    site_from_cam.R.col(0) = x;
+    site_from_cam.R.col(1) = y;
+    site_from_cam.R.col(2) = z;
+    return site_from_cam;
 }
 
 Status renderFrame(const FrameRequest& request, const FrameOutput& out, RenderStats* stats) noexcept {
@@ -282,8 +282,8 @@ Status renderFrame(const FrameRequest& request, const FrameOutput& out, RenderSt
     FrameSetup f;
     f.terrain = request.terrain;
     f.model = &request.model;
-    f.R = request.pose.R_site_from_ref;
-    f.t = request.pose.position_site_m;
+    f.R = request.pose.R;
+    f.t = request.pose.t_m;
     f.axis_ref = opticalAxis(request.model);
     f.light = &request.lighting;
     f.sensor = detail::makeSensorConstants(request.sensor, request.model.width_px, request.model.height_px);

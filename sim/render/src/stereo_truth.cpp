@@ -42,9 +42,9 @@ Status validateStereoRequest(const StereoTruthRequest& r, const StereoTruthOutpu
     if (!math::isFinite(r.max_range_m) || !(r.max_range_m > 0.0)) {
         return Status(StatusCode::kInvalidArgument, "request.max_range_m: must be finite and > 0");
     }
-    const Mat3& R = r.left_pose.R_site_from_ref;
+    const Mat3& R = r.left_pose.R;
     const Mat3 e = R.transpose() * R - Mat3::Identity();
-    const bool finite = math::isFinite(R.sum()) && math::isFinite(r.left_pose.position_site_m.sum());
+    const bool finite = math::isFinite(R.sum()) && math::isFinite(r.left_pose.t_m.sum());
     if (!finite || !(e.cwiseAbs().maxCoeff() <= 1e-6) || R.determinant() < 0.0) {
         return Status(StatusCode::kInvalidArgument, "request.left_pose: not finite or not a rotation (1e-6)");
     }
@@ -66,7 +66,7 @@ struct PairSetup {
 // Visibility of the site point p in the right camera.
 DisparityTruthCode rightVisibility(const PairSetup& s, const Vec3& p_site_m) noexcept {
     const StereoTruthRequest& r = *s.request;
-    const Mat3& R = r.left_pose.R_site_from_ref;
+    const Mat3& R = r.left_pose.R;
     const Vec3 p_right = R.transpose() * (p_site_m - s.right_centre_site_m);
     Vec2 pixel;
     const bool projects = projectPoint(r.left_model, p_right, pixel).isOk();
@@ -88,14 +88,14 @@ DisparityTruthCode rightVisibility(const PairSetup& s, const Vec3& p_site_m) noe
 
 void disparityRow(const PairSetup& s, const StereoTruthOutput& out, std::int32_t y) noexcept {
     const StereoTruthRequest& r = *s.request;
-    const Mat3& R = r.left_pose.R_site_from_ref;
+    const Mat3& R = r.left_pose.R;
     const std::int32_t w = r.left_model.width_px;
     for (std::int32_t x = 0; x < w; ++x) {
         CameraRay ray;
         const bool ok = backProjectPixel(r.left_model, Vec2(static_cast<double>(x), static_cast<double>(y)), ray).isOk();
         TerrainHit hit;
         if (ok) {
-            hit = r.terrain->intersect(R * ray.origin_m + r.left_pose.position_site_m, R * ray.direction, r.max_range_m);
+            hit = r.terrain->intersect(R * ray.origin_m + r.left_pose.t_m, R * ray.direction, r.max_range_m);
         }
         const double depth_m = hit.t_m * ray.direction.z();
         const bool valid = ok && hit.hit && depth_m > 0.0;
@@ -112,17 +112,17 @@ void disparityRow(const PairSetup& s, const StereoTruthOutput& out, std::int32_t
 
 }  // namespace
 
-CameraPose rightPoseOfRectifiedPair(const CameraPose& left_pose, double baseline_m) noexcept {
-    CameraPose right = left_pose;
-    right.position_site_m = left_pose.position_site_m + left_pose.R_site_from_ref * Vec3(baseline_m, 0.0, 0.0);
-    return right;
+RigidPose rightPoseOfRectifiedPair(const RigidPose& site_from_left, double baseline_m) noexcept {
+    RigidPose site_from_right = site_from_left;
+    site_from_right.t_m = site_from_left.t_m + site_from_left.R * Vec3(baseline_m, 0.0, 0.0);
+    return site_from_right;
 }
 
 Status rectifiedDisparity(const StereoTruthRequest& request, const StereoTruthOutput& out) noexcept {
     VTM_RETURN_IF_ERROR(validateStereoRequest(request, out));
     PairSetup s;
     s.request = &request;
-    s.right_centre_site_m = rightPoseOfRectifiedPair(request.left_pose, request.baseline_m).position_site_m;
+    s.right_centre_site_m = rightPoseOfRectifiedPair(request.left_pose, request.baseline_m).t_m;
     for (std::int32_t y = 0; y < request.left_model.height_px; ++y) {
         disparityRow(s, out, y);
     }

@@ -61,11 +61,11 @@ VehiclePose truePose(const Station& s) noexcept {
     return p;
 }
 
-CameraPose mountedCamera(const Scenario& sc, const Station& s) noexcept {
-    CameraPose pose;
-    pose.R_site_from_ref = s.R_site_from_vehicle * mountRotation(sc.mount);
-    pose.position_site_m = s.position_site_m + s.R_site_from_vehicle * sc.mount.position_vehicle_m;
-    return pose;
+RigidPose mountedCamera(const Scenario& sc, const Station& s) noexcept {
+    RigidPose site_from_cam;
+    site_from_cam.R = s.R_site_from_vehicle * mountRotation(sc.mount);
+    site_from_cam.t_m = s.position_site_m + s.R_site_from_vehicle * sc.mount.position_vehicle_m;
+    return site_from_cam;
 }
 
 // Frame k of camera `role` seen from station s (odometry filled in later).
@@ -161,18 +161,19 @@ Status roverPairFrames(const Scenario& sc, const Terrain& terrain, ScenarioFrame
     // The fixed stereo pair: identical undistorted pinholes centred on the mast camera's
     // projection centre at the first position, parallel to its reference frame.
     const CameraModel stereo = makePinhole(sc.camera.width_px, sc.camera.height_px, sc.motion.stereo_hfov_deg);
-    const CameraPose mast = mountedCamera(sc, a);
-    CameraPose left;
-    left.R_site_from_ref = mast.R_site_from_ref;
-    const Vec3 centre = mast.position_site_m + mast.R_site_from_ref * modelCentre(sc.camera);
-    left.position_site_m = centre - mast.R_site_from_ref * Vec3(0.5 * sc.motion.stereo_baseline_m, 0.0, 0.0);
+    const RigidPose site_from_mast = mountedCamera(sc, a);
+    RigidPose site_from_left;
+    site_from_left.R = site_from_mast.R;
+    const Vec3 centre = site_from_mast.t_m + site_from_mast.R * modelCentre(sc.camera);
+    site_from_left.t_m = centre - site_from_mast.R * Vec3(0.5 * sc.motion.stereo_baseline_m, 0.0, 0.0);
     const FrameRole roles[2] = {FrameRole::kStereoLeft, FrameRole::kStereoRight};
     for (std::int32_t i = 0; i < 2; ++i) {  // bound: 2 cameras
         ScenarioFrame& f = out.frames[2 + i];
         setFrame(sc, a, roles[i], 2 + i, f);
         f.model = stereo;
         f.camera_id = (i == 0) ? kStereoLeftCameraId : kStereoRightCameraId;
-        f.camera_pose = (i == 0) ? left : rightPoseOfRectifiedPair(left, sc.motion.stereo_baseline_m);
+        f.camera_pose =
+            (i == 0) ? site_from_left : rightPoseOfRectifiedPair(site_from_left, sc.motion.stereo_baseline_m);
         f.stereo_baseline_m = sc.motion.stereo_baseline_m;
     }
     out.count = 4;

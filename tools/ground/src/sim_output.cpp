@@ -11,6 +11,7 @@
 
 #include "file_bytes.hpp"
 #include "vtm/core/crc32.hpp"
+#include "vtm/core/eigen.hpp"
 
 namespace vtm::ground {
 namespace {
@@ -218,6 +219,23 @@ Result<std::vector<SimPose>> readPoseLog(const std::string& path) {
         poses.push_back(p);
     }
     return Result<std::vector<SimPose>>::success(poses);
+}
+
+RigidPose siteFromCam(const SimCameraPose& p) {
+    const Quat q(p.attitude_wxyz[0], p.attitude_wxyz[1], p.attitude_wxyz[2], p.attitude_wxyz[3]);
+    RigidPose site_from_cam;
+    site_from_cam.R = q.normalized().toRotationMatrix();
+    site_from_cam.t_m = Vec3(p.position_m[0], p.position_m[1], p.position_m[2]);
+    return site_from_cam;
+}
+
+void setSiteFromCam(SimCameraPose& p, const RigidPose& site_from_cam) {
+    const Quat q(site_from_cam.R);
+    for (int i = 0; i < 3; ++i) p.position_m[i] = site_from_cam.t_m[i];
+    p.attitude_wxyz[0] = q.w();
+    p.attitude_wxyz[1] = q.x();
+    p.attitude_wxyz[2] = q.y();
+    p.attitude_wxyz[3] = q.z();
 }
 
 std::string formatCameraPoses(const std::vector<SimCameraPose>& poses) {

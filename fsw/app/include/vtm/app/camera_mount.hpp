@@ -5,6 +5,7 @@
 
 #include "hal/odometry.hpp"
 #include "vtm/core/eigen.hpp"
+#include "vtm/core/pose.hpp"
 #include "vtm/core/status.hpp"
 
 namespace vtm::app {
@@ -18,9 +19,10 @@ struct CameraMount {
 // finite or farther than 100 m from the vehicle origin.
 [[nodiscard]] Status validateMount(const CameraMount& mount) noexcept;
 
-// T_site_from_camera = T_site_from_vehicle (the pose) * T_vehicle_from_camera (the mount).
-// kCorruptData when the pose fails hal::validatePose (its reason).
+// site_from_camera = site_from_vehicle (the pose, hal::siteFromVehicle) * vehicle_from_camera
+// (the mount): R = R_sv R_vc, t_m = R_sv p_vc + t_sv. kCorruptData when the pose fails
+// hal::validatePose (its reason); site_from_camera is then left as it was.
 [[nodiscard]] Status cameraPoseInSite(const hal::PoseEstimate& vehicle, const CameraMount& mount,
-                                      Mat3& R_site_from_camera, Vec3& position_site_m) noexcept;
+                                      RigidPose& site_from_camera) noexcept;
 
 }  // namespace vtm::app

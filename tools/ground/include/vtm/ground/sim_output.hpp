@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "vtm/core/pose.hpp"
 #include "vtm/ground/image.hpp"
 
 namespace vtm::ground {
@@ -37,8 +38,8 @@ std::string formatPoseLog(const std::vector<SimPose>& poses, const std::string& 
 // fields). The error names the file and the line.
 Result<std::vector<SimPose>> readPoseLog(const std::string& path);
 
-// Where a camera was when a frame was taken: T_site_from_ref of the camera model's
-// reference frame (sim/render.hpp CameraPose), one line per frame:
+// Where a camera was when a frame was taken: site_from_cam of the camera model's
+// reference frame (a vtm::RigidPose, as sim::ScenarioFrame::camera_pose), one line per frame:
 //   vtm-camera-poses 1
 //   <frame_index> <camera> <timestamp_ns> <x> <y> <z> <qw> <qx> <qy> <qz>
 struct SimCameraPose {
@@ -48,6 +49,15 @@ struct SimCameraPose {
     double position_m[3] = {0.0, 0.0, 0.0};
     double attitude_wxyz[4] = {1.0, 0.0, 0.0, 0.0};
 };
+// The record is the file's layout; ground code computes with the pose as a RigidPose
+// through these two, the one conversion (docs/cli-poses.md):
+//  - siteFromCam: R from the quaternion, normalised (Eigen's normalized().toRotationMatrix()),
+//    t_m = position_m;
+//  - setSiteFromCam: position_m = t_m, attitude = Eigen's quaternion of R (w, x, y, z);
+//    frame_index, camera and timestamp_ns are left as they are.
+RigidPose siteFromCam(const SimCameraPose& p);
+void setSiteFromCam(SimCameraPose& p, const RigidPose& site_from_cam);
+
 std::string formatCameraPoses(const std::vector<SimCameraPose>& poses);
 Result<std::vector<SimCameraPose>> readCameraPoses(const std::string& path);
 

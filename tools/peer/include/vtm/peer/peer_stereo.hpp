@@ -1,5 +1,5 @@
-// Peer dense-stereo matchers for tests and benchmarks (host only; OpenCV is allowed
-// under tests/ and tools/bench/, never in fsw/).
+// Peer dense-stereo matchers for tests and benchmarks (tools/peer, host only; OpenCV is
+// allowed under tests/, tools/peer and tools/bench, never in fsw/, hal/ or sim/).
 //
 // Every matcher takes a rectified 8-bit grey pair (left = reference; a left pixel
 // (x, y) with disparity d sees the right pixel (x - d, y)) and returns a CV_32FC1

@@ -1,4 +1,6 @@
-// Exit codes of the vtm commands (docs/tools.md).
+// Exit codes of the ground command lines, vtm and vtm-sim (docs/tools.md). In tools/ground
+// so that both include it by its path, "vtm/ground/exit_codes.hpp"; the names stay in
+// vtm::tools, the namespace of the command-line code that returns them.
 #pragma once
 
 namespace vtm::tools {
