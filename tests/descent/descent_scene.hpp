@@ -62,11 +62,11 @@ inline RenderedFrame render(const sim::Terrain& terrain, const CameraModel& mode
     return f;
 }
 
-inline CameraPose toDescentPose(const sim::CameraPose& p) {
-    CameraPose c;
-    c.R_site_from_cam = p.R_site_from_ref;
-    c.position_site_m = p.position_site_m;
-    return c;
+inline RigidPose toDescentPose(const sim::CameraPose& p) {
+    RigidPose site_from_cam;
+    site_from_cam.R = p.R_site_from_ref;
+    site_from_cam.t_m = p.position_site_m;
+    return site_from_cam;
 }
 
 // Nadir camera (optical axis straight down, image +x = east) at `eye_site_m`.
