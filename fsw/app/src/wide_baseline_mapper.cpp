@@ -483,7 +483,8 @@ Status WideBaselineMapper::runGrid() noexcept {
     const Span<const terrain::TerrainPoint> points(points_.data(), static_cast<std::size_t>(p.triangulation.points));
     Status st = map_.add(points, &p.map);
     if (st.isOk() && map_.filledCells() == 0) {
-        st = Status(StatusCode::kNoData, "grid: no point fell inside the site grid (grid origin, cell_m, cols/rows?)");
+        st = Status(StatusCode::kNoData,
+                    "grid: no point fell inside the site grid (height_map.grid: edges, cell_m, cols/rows?)");
     }
     return finish(Stage::kGrid, st, st.isOk() ? map_.filledCells() : 0, t0);
 }
