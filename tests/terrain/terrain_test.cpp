@@ -227,22 +227,30 @@ TEST(HeightMap, EachReducerGivesItsElevationAndEveryMapKeepsHighestLowestSpreadA
 }
 
 TEST(HeightMap, DoublePointsBinAsTheirFloatPointsDo) {
-    MapFixture a(grid(), Reducer::kMean), b(grid(), Reducer::kMean);
-    HeightMapStats sa, sb;
+    MapFixture a(grid(), Reducer::kMean), b(grid(), Reducer::kMean), s(grid(), Reducer::kMean);
+    HeightMapStats sa, sb, ss;
     ASSERT_TRUE(a.map.add(Span<const TerrainPoint>(kPoints, kPointCount), &sa).isOk());
-    NoHeapScope scope;
+    std::vector<Vec3> sites;
     for (const TerrainPoint& p : kPoints) {
-        const Vec3 site(static_cast<double>(p.x_m), static_cast<double>(p.y_m), static_cast<double>(p.z_m));
-        ASSERT_TRUE(b.map.add(site, &sb).isOk());
+        sites.emplace_back(static_cast<double>(p.x_m), static_cast<double>(p.y_m), static_cast<double>(p.z_m));
     }
+    NoHeapScope scope;
+    for (const Vec3& site : sites) {
+        ASSERT_TRUE(b.map.add(site, &sb).isOk());  // one at a time
+    }
+    ASSERT_TRUE(s.map.add(Span<const Vec3>(sites.data(), sites.size()), &ss).isOk());  // a span
     EXPECT_EQ(scope.heapCalls(), 0U);
     EXPECT_EQ(sa.added, sb.added);
     EXPECT_EQ(sa.outside, sb.outside);
+    EXPECT_EQ(sa.added, ss.added);
+    EXPECT_EQ(sa.outside, ss.outside);
     for (int r = 0; r < grid().rows; ++r) {
         for (int c = 0; c < grid().cols; ++c) {
-            const float ea = a.map.elevation(c, r), eb = b.map.elevation(c, r);
+            const float ea = a.map.elevation(c, r), eb = b.map.elevation(c, r), es = s.map.elevation(c, r);
             EXPECT_EQ(std::memcmp(&ea, &eb, sizeof ea), 0) << c << "," << r;
+            EXPECT_EQ(std::memcmp(&ea, &es, sizeof ea), 0) << c << "," << r;
             EXPECT_EQ(a.map.count(c, r), b.map.count(c, r));
+            EXPECT_EQ(a.map.count(c, r), s.map.count(c, r));
         }
     }
 }
@@ -360,6 +368,7 @@ TEST(HeightMap, BadConfigsAndSmallArenasAreRefusedNamingTheField) {
     EXPECT_EQ(map.init(c, arena).code(), StatusCode::kOutOfMemory);
     EXPECT_EQ(map.add(Span<const TerrainPoint>()).code(), StatusCode::kNotInitialized);
     EXPECT_EQ(map.add(Vec3(0.0, 0.0, 0.0)).code(), StatusCode::kNotInitialized);
+    EXPECT_EQ(map.add(Span<const Vec3>()).code(), StatusCode::kNotInitialized);
     EXPECT_EQ(map.setGrid(grid()).code(), StatusCode::kNotInitialized);
 }
 

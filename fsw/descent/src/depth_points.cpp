@@ -26,6 +26,10 @@ Status addDepthToHeightMap(const ImageView<const float>& depth_m, const CameraMo
     VTM_RETURN_IF_ERROR(checkInputs(depth_m, camera, site_from_cam));
     terrain::HeightMapStats local;
     const Mat3 Kinv = detail::inverseIntrinsics(camera);
+    // Points go to the map in batches (one call per kBatch points, in pixel order).
+    constexpr std::size_t kBatch = 64U;
+    Vec3 batch[kBatch];
+    std::size_t n = 0U;
     for (std::int32_t y = 0; y < depth_m.height(); ++y) {
         const float* d = depth_m.row(y);
         for (std::int32_t x = 0; x < depth_m.width(); ++x) {
@@ -33,10 +37,15 @@ Status addDepthToHeightMap(const ImageView<const float>& depth_m, const CameraMo
                 continue;
             }
             const Vec3 ray = Kinv * Vec3(static_cast<double>(x), static_cast<double>(y), 1.0);  // z = 1
-            const Vec3 p = site_from_cam.R * (ray * static_cast<double>(d[x])) + site_from_cam.t_m;
-            VTM_RETURN_IF_ERROR(map.add(p, &local));
+            batch[n] = site_from_cam.R * (ray * static_cast<double>(d[x])) + site_from_cam.t_m;
+            ++n;
+            if (n == kBatch) {
+                VTM_RETURN_IF_ERROR(map.add(Span<const Vec3>(batch, n), &local));
+                n = 0U;
+            }
         }
     }
+    VTM_RETURN_IF_ERROR(map.add(Span<const Vec3>(batch, n), &local));
     if (stats != nullptr) {
         stats->added += local.added;
         stats->outside += local.outside;

@@ -167,6 +167,22 @@ Status HeightMap::add(const Vec3& site_m, HeightMapStats* stats) noexcept {
     return Status::ok();
 }
 
+Status HeightMap::add(Span<const Vec3> sites_m, HeightMapStats* stats) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "height map: add before init");
+    }
+    HeightMapStats local;
+    for (std::size_t i = 0; i < sites_m.size(); ++i) {
+        const Vec3& p = sites_m[i];
+        bin(p.x(), p.y(), p.z(), local);
+    }
+    if (stats != nullptr) {
+        stats->added += local.added;
+        stats->outside += local.outside;
+    }
+    return Status::ok();
+}
+
 Status HeightMap::merge(const HeightMap& other) noexcept {
     if (!initialized_ || !other.initialized_) {
         return Status(StatusCode::kNotInitialized, "height map: merge with a map before init");

@@ -93,6 +93,8 @@ public:
     // Adds one site point given in double (x north, y east, z down): the same binning and
     // reduction as add() (a TerrainPoint is this with its floats widened). kNotInitialized.
     [[nodiscard]] Status add(const Vec3& site_m, HeightMapStats* stats = nullptr) noexcept;
+    // The same for a span of double site points, in order.
+    [[nodiscard]] Status add(Span<const Vec3> sites_m, HeightMapStats* stats = nullptr) noexcept;
     // Merges another map of the SAME grid and reducer (kSizeMismatch otherwise) into this
     // one: max of the highs, min of the lows, counts added (saturating), and with kMean
     // the sums added (when the counts saturate, the sum becomes the merged mean times
