@@ -215,8 +215,45 @@ DepthError depthError(const DescentProducts& p) {
     return e;
 }
 
+// The height map against the terrain: |cell elevation - true elevation at the cell's
+// centre| over the filled cells (median), and the cell under camera 1 found where the
+// convention puts it (row 0 north, column 0 west; the grid is centred under camera 1).
+struct MapError {
+    std::size_t cells = 0U;
+    double median_m = 0.0;
+};
+
+MapError mapError(const DescentProducts& p) {
+    const terrain::HeightMap& map = *p.height_map;
+    const terrain::GridConfig& g = map.grid();
+    std::vector<double> err;
+    for (std::int32_t row = 0; row < g.rows; ++row) {
+        for (std::int32_t col = 0; col < g.cols; ++col) {
+            if (map.count(col, row) == 0U) {
+                EXPECT_TRUE(terrain::isNoData(map.elevation(col, row)));
+                continue;
+            }
+            const double truth = world().terrain.elevationAt(map.centreNorthM(row), map.centreEastM(col));
+            err.push_back(std::fabs(static_cast<double>(map.elevation(col, row)) - truth));
+        }
+    }
+    // Camera 1 is over the grid's centre: north_edge - rows / 2 cells, west_edge + cols / 2 cells.
+    const Vec3& c1 = p.geometry.site_from_cam1.t_m;
+    EXPECT_NEAR(g.north_edge_m - 0.5 * g.rows * g.cell_m, c1.x(), 1e-6);
+    EXPECT_NEAR(g.west_edge_m + 0.5 * g.cols * g.cell_m, c1.y(), 1e-6);
+    MapError e;
+    e.cells = err.size();
+    if (!err.empty()) {
+        std::sort(err.begin(), err.end());
+        e.median_m = err[err.size() / 2];
+    }
+    return e;
+}
+
 struct Flown {
     DepthError depth;
+    MapError map;
+    double altitude_m = 0.0;  // camera 1's height as the poses said
     double rotation_correction_deg = 0.0;
     double direction_correction_deg = 0.0;
 };
@@ -245,25 +282,30 @@ std::vector<Flown> flyDescent(DescentMapper& mapper, const char* poses) {
         EXPECT_EQ(mapper.stages().size(), mapper.stages().at(5).stage == Stage::kRefine ? 8U : 7U);
         EXPECT_GT(p->cells_filled, 0);
         const DepthError e = depthError(*p);
-        std::printf("| %s | %d | %.0f | %d / %d | %.3f | %.3f / %.3f | %.1f | %.3f | %.3f | %lld |\n", poses, pair,
-                    -p->geometry.pose1.position_site_m.z(), p->matching.matched, p->motion.inliers, p->motion.rms_px,
-                    p->refine_rotation_deg, p->refine_direction_deg,
-                    100.0 * static_cast<double>(e.count) / (kSize * kSize), 100.0 * e.median, 100.0 * e.p90,
-                    static_cast<long long>(p->cells_filled));
-        out.push_back({e, p->refine_rotation_deg, p->refine_direction_deg});
+        const MapError m = mapError(*p);
+        const double altitude = -p->geometry.site_from_cam1.t_m.z();
+        std::printf("| %s | %d | %.0f | %d / %d | %.3f | %.3f / %.3f | %.1f | %.3f | %.3f | %lld | %.3f |\n", poses,
+                    pair, altitude, p->matching.matched, p->motion.inliers, p->motion.rms_px, p->refine_rotation_deg,
+                    p->refine_direction_deg, 100.0 * static_cast<double>(e.count) / (kSize * kSize), 100.0 * e.median,
+                    100.0 * e.p90, static_cast<long long>(p->cells_filled), 100.0 * m.median_m / altitude);
+        EXPECT_EQ(m.cells, static_cast<std::size_t>(p->cells_filled));
+        out.push_back({e, m, altitude, p->refine_rotation_deg, p->refine_direction_deg});
     }
     return out;
 }
 
 void printHeader() {
     std::printf("| poses | pair | camera 1 height m | matches / inliers | refine RMS px | correction rot / dir deg |"
-                " valid %% of image 1 | median depth error %% | p90 %% | grid cells |\n"
-                "|---|---|---|---|---|---|---|---|---|---|\n");
+                " valid %% of image 1 | median depth error %% | p90 %% | grid cells |"
+                " median elevation error %% of height |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 // With the simulator's true poses the mapper's own chain (mount, camera poses, depth range,
 // refinement, sweep, grid) is what is measured: depth within 1 % (median) of the rendered
-// truth, and the refinement must not move a true pose (measured: <= 0.04 deg).
+// truth, the height map's cells within 1 % of the camera height (median) of the terrain's
+// elevation at their centres, and the refinement must not move a true pose (measured:
+// <= 0.04 deg).
 TEST_F(DescentMapperTest, TruePosesGiveTheRenderedDepthOnEveryPairOfTheDescent) {
     const DescentMapperConfig c = smallConfig();
     ASSERT_TRUE(start(c, DescentMapper::workspaceBytes(c), true).isOk());
@@ -272,6 +314,8 @@ TEST_F(DescentMapperTest, TruePosesGiveTheRenderedDepthOnEveryPairOfTheDescent) 
     for (std::size_t i = 0; i < e.size(); ++i) {
         EXPECT_GT(e[i].depth.count, static_cast<std::size_t>(kSize * kSize / 10)) << "pair " << i;
         EXPECT_LT(e[i].depth.median, 0.01) << "pair " << i;
+        EXPECT_GT(e[i].map.cells, 0U) << "pair " << i;
+        EXPECT_LT(e[i].map.median_m, 0.01 * e[i].altitude_m) << "pair " << i;
         EXPECT_LT(e[i].rotation_correction_deg, 0.1) << "pair " << i;
         EXPECT_LT(e[i].direction_correction_deg, 0.2) << "pair " << i;
     }
@@ -356,13 +400,16 @@ TEST_F(DescentMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     ASSERT_TRUE(start(c, need).isOk());
     EXPECT_LE(mapper_->memoryBytes(), need);  // the plan covers the worst alignment padding
     EXPECT_GE(mapper_->memoryBytes() + 1024U, need);
-    // Frames W H (2 + 2 + 4 + 1 + 3 for refine) bytes plus the grid 256^2 * 6 and the modules' plans.
+    // Frames W H (2 + 2 + 4 + 1 + 3 for refine) bytes plus the height map (128^2 * 14) and the modules' plans.
     EXPECT_GE(need, static_cast<std::size_t>(kSize) * kSize * 18U);
 
     auto reasonOf = [&](const DescentMapperConfig& bad) { return std::string(bad.validate().reason()); };
     DescentMapperConfig bad = c;
     bad.grid_cells = 8;
     EXPECT_NE(reasonOf(bad).find("grid_cells"), std::string::npos);
+    bad = c;
+    bad.grid_reducer = static_cast<terrain::Reducer>(7);
+    EXPECT_NE(reasonOf(bad).find("grid_reducer"), std::string::npos);
     bad = c;
     bad.relief_fraction = 0.95;
     EXPECT_NE(reasonOf(bad).find("relief_fraction"), std::string::npos);

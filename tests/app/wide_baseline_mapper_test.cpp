@@ -240,9 +240,9 @@ MapError mapError(const terrain::HeightMap& map) {
             if (map.count(col, row) == 0U) {
                 continue;
             }
-            const double north = g.origin_north_m + (row + 0.5) * g.cell_m;
-            const double east = g.origin_east_m + (col + 0.5) * g.cell_m;
-            err.push_back(std::fabs(static_cast<double>(map.highest(col, row)) - world().terrain.elevationAt(north, east)));
+            const double north = map.centreNorthM(row);  // row 0 north (terrain::HeightMap's convention)
+            const double east = map.centreEastM(col);
+            err.push_back(std::fabs(static_cast<double>(map.elevation(col, row)) - world().terrain.elevationAt(north, east)));
         }
     }
     MapError e;

@@ -60,7 +60,7 @@ void makePair(int n, const vtm::descent::PairGeometry& g, std::vector<std::uint1
     }
     // Camera 2 pixel -> ground point at depth 2000 m below camera 1 -> camera 1 pixel.
     const double f = g.camera.fx_px, c = g.camera.cx_px;
-    const vtm::Vec3 d = g.pose2.position_site_m - g.pose1.position_site_m;  // R = I for both
+    const vtm::Vec3 d = g.site_from_cam2.t_m - g.site_from_cam1.t_m;  // R = I for both
     for (int y = 0; y < n; ++y) {
         for (int x = 0; x < n; ++x) {
             const double z2 = 2000.0 - d.z();
@@ -87,8 +87,8 @@ int main(int argc, char** argv) {
     const int repeat = parseArg(argv[3], 0, 100, "REPEAT");
     vtm::descent::PairGeometry g;
     g.camera = vtm::makePinhole(static_cast<std::uint16_t>(n), static_cast<std::uint16_t>(n), 45.0);
-    g.pose1.position_site_m = vtm::Vec3(0.0, 0.0, -2000.0);
-    g.pose2.position_site_m = vtm::Vec3(0.0, 20.0, -1040.0);
+    g.site_from_cam1.t_m = vtm::Vec3(0.0, 0.0, -2000.0);
+    g.site_from_cam2.t_m = vtm::Vec3(0.0, 20.0, -1040.0);
     std::vector<std::uint16_t> i1, i2;
     makePair(n, g, i1, i2);
     vtm::descent::Config config;

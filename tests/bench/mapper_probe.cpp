@@ -137,7 +137,10 @@ int fly(Config config, vtm::hal::FileCamera& camera, vtm::hal::FileOdometry& odo
         const vtm::app::DescentProducts* p = mapper->products();
         if (p != nullptr) {
             h = hashView(h, p->depth_m);
-            h = hashView(h, p->elevation_m);
+            const vtm::terrain::HeightMap& map = *p->height_map;  // row by row, row 0 north: the old image order
+            for (std::int32_t row = 0; row < map.grid().rows; ++row) {
+                for (std::int32_t col = 0; col < map.grid().cols; ++col) h = hashValue(h, map.elevation(col, row));
+            }
             std::printf("valid %lld\n", static_cast<long long>(p->sweep.valid_pixels));
         }
     }

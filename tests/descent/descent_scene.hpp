@@ -62,11 +62,8 @@ inline RenderedFrame render(const sim::Terrain& terrain, const CameraModel& mode
     return f;
 }
 
-inline CameraPose toDescentPose(const RigidPose& p) {
-    CameraPose c;
-    c.R_site_from_cam = p.R;
-    c.position_site_m = p.t_m;
-    return c;
+inline RigidPose toDescentPose(const RigidPose& site_from_cam) {
+    return site_from_cam;
 }
 
 // Nadir camera (optical axis straight down, image +x = east) at `eye_site_m`.

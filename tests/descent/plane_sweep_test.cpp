@@ -57,8 +57,8 @@ const Pair& pair() {
         q.f1 = test::render(t, q.camera, test::nadirPose(kEye1), 0U, sensor);
         q.f2 = test::render(t, q.camera, test::nadirPose(kEye2), 1U, sensor);
         q.geometry.camera = q.camera;
-        q.geometry.pose1 = test::toDescentPose(q.f1.pose);
-        q.geometry.pose2 = test::toDescentPose(q.f2.pose);
+        q.geometry.site_from_cam1 = test::toDescentPose(q.f1.pose);
+        q.geometry.site_from_cam2 = test::toDescentPose(q.f2.pose);
         return q;
     }();
     return p;
@@ -113,9 +113,9 @@ SweepRun runSweep(const Config& config, const PairGeometry& geometry) {
 // (Depth error itself scales with 1 / parallax, which vanishes at the focus of expansion.)
 std::vector<double> registrationErrors(const SweepRun& r) {
     const Pair& p = pair();
-    const Mat3 R = p.geometry.pose2.R_site_from_cam.transpose() * p.geometry.pose1.R_site_from_cam;
-    const Vec3 t = p.geometry.pose2.R_site_from_cam.transpose() *
-                   (p.geometry.pose1.position_site_m - p.geometry.pose2.position_site_m);
+    const Mat3 R = p.geometry.site_from_cam2.R.transpose() * p.geometry.site_from_cam1.R;
+    const Vec3 t =
+        p.geometry.site_from_cam2.R.transpose() * (p.geometry.site_from_cam1.t_m - p.geometry.site_from_cam2.t_m);
     Mat3 K;
     K << p.camera.fx_px, 0, p.camera.cx_px, 0, p.camera.fy_px, p.camera.cy_px, 0, 0, 1;
     auto map = [&](double x, double y, double depth) {
@@ -229,7 +229,7 @@ TEST(PlaneSweep, SetDepthRangeRetargetsWithoutNewMemory) {
 // Image-1 pixel of the focus of expansion: where camera 2's centre projects in camera 1.
 Vec2 focusOfExpansion() {
     const Pair& p = pair();
-    const Vec3 c2 = p.geometry.pose1.R_site_from_cam.transpose() * (kEye2 - kEye1);
+    const Vec3 c2 = p.geometry.site_from_cam1.R.transpose() * (kEye2 - kEye1);
     return Vec2(p.camera.fx_px * c2.x() / c2.z() + p.camera.cx_px, p.camera.fy_px * c2.y() / c2.z() + p.camera.cy_px);
 }
 
@@ -295,10 +295,11 @@ TEST(PlaneSweep, EveryPixelGetsADepthOrAReason) {
     EXPECT_EQ(r.reason[static_cast<std::size_t>(5 * kSize + 5)], static_cast<std::uint8_t>(Reason::kOutOfView));
 }
 
-TEST(PlaneSweep, ElevationGridOfTheTrueDepthIsThePlane) {
-    // The grid alone, fed the renderer's true depth (with a NaN hole): every cell holds the
-    // mean elevation of the points in it, which for the plane is its value at the cell
-    // centre within the slope's spread over the cell; empty cells are NO_DATA.
+TEST(PlaneSweep, TrueDepthThroughTheHeightMapIsThePlane) {
+    // The depth-to-height-map step alone, fed the renderer's true depth (with a NaN hole),
+    // into a mean height map: every cell holds the mean elevation of the points in it,
+    // which for the plane is its value at the cell centre within the slope's spread over
+    // the cell; empty cells are NO_DATA; every valid pixel is counted once.
     const Pair& p = pair();
     std::vector<float> depth = p.f1.depth_m;
     for (std::int32_t y = 60; y < 68; ++y) {
@@ -308,42 +309,49 @@ TEST(PlaneSweep, ElevationGridOfTheTrueDepthIsThePlane) {
     }
     // 4 m cells over 120 m x 120 m around the nadir point (the image covers about 83 m).
     constexpr std::int32_t kCells = 30;
-    std::vector<float> elevation(kCells * kCells);
-    std::vector<std::uint16_t> count(kCells * kCells);
-    GridSpec grid;
-    grid.origin_north_m = 60.0;
-    grid.origin_east_m = -60.0;
-    grid.cell_m = 4.0;
-    std::int64_t outside = -1;
+    terrain::HeightMapConfig mc;
+    mc.grid.north_edge_m = 60.0;
+    mc.grid.west_edge_m = -60.0;
+    mc.grid.cell_m = 4.0;
+    mc.grid.cols = kCells;
+    mc.grid.rows = kCells;
+    mc.reducer = terrain::Reducer::kMean;
+    std::vector<std::byte> pool(terrain::HeightMap::workspaceBytes(mc));
+    Arena arena(pool.data(), pool.size());
+    terrain::HeightMap map;
+    ASSERT_TRUE(map.init(mc, arena).isOk());
+    terrain::HeightMapStats stats;
     vtm::test::NoHeapScope guard;
-    const Status s = elevationGrid(ImageView<const float>(depth.data(), kSize, kSize), p.camera, p.geometry.pose1,
-                                   grid, ImageView<float>(elevation.data(), kCells, kCells),
-                                   ImageView<std::uint16_t>(count.data(), kCells, kCells), &outside);
+    const Status s = addDepthToHeightMap(ImageView<const float>(depth.data(), kSize, kSize), p.camera,
+                                         p.geometry.site_from_cam1, map, &stats);
     EXPECT_EQ(guard.heapCalls(), 0U);
     ASSERT_TRUE(s.isOk()) << s.reason();
-    EXPECT_EQ(outside, 0);
+    EXPECT_EQ(stats.outside, 0);
+    EXPECT_EQ(stats.added, kSize * kSize - 8 * kSize);
     std::int64_t points = 0;
     for (std::int32_t row = 0; row < kCells; ++row) {
         for (std::int32_t col = 0; col < kCells; ++col) {
-            const auto i = static_cast<std::size_t>(row * kCells + col);
-            points += count[i];
-            if (count[i] == 0U) {
-                EXPECT_TRUE(std::isnan(elevation[i]));
+            points += map.count(col, row);
+            if (map.count(col, row) == 0U) {
+                EXPECT_TRUE(terrain::isNoData(map.elevation(col, row)));
                 continue;
             }
-            const double north = grid.origin_north_m - (row + 0.5) * grid.cell_m;
-            EXPECT_NEAR(elevation[i], 0.1 * north, 0.1 * 0.5 * grid.cell_m + 1e-3) << row << "," << col;
+            const double north = mc.grid.north_edge_m - (row + 0.5) * mc.grid.cell_m;  // row 0 north
+            EXPECT_NEAR(map.elevation(col, row), 0.1 * north, 0.1 * 0.5 * mc.grid.cell_m + 1e-3) << row << "," << col;
         }
     }
     EXPECT_EQ(points, kSize * kSize - 8 * kSize);
     // The corner cells lie outside the image's footprint.
-    EXPECT_EQ(count[0], 0U);
-    grid.cell_m = 0.0;
-    EXPECT_EQ(elevationGrid(ImageView<const float>(depth.data(), kSize, kSize), p.camera, p.geometry.pose1, grid,
-                            ImageView<float>(elevation.data(), kCells, kCells),
-                            ImageView<std::uint16_t>(count.data(), kCells, kCells))
+    EXPECT_EQ(map.count(0, 0), 0U);
+    RigidPose bad = p.geometry.site_from_cam1;
+    bad.t_m.x() = std::numeric_limits<double>::quiet_NaN();
+    const Status b = addDepthToHeightMap(ImageView<const float>(depth.data(), kSize, kSize), p.camera, bad, map);
+    EXPECT_EQ(b.code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(std::string(b.reason()).find("site_from_cam"), std::string::npos);
+    EXPECT_EQ(addDepthToHeightMap(ImageView<const float>(depth.data(), kSize - 1, kSize), p.camera,
+                                  p.geometry.site_from_cam1, map)
                   .code(),
-              StatusCode::kInvalidArgument);
+              StatusCode::kSizeMismatch);
 }
 
 TEST(PlaneSweep, ErrorsNameTheInput) {
@@ -369,13 +377,13 @@ TEST(PlaneSweep, ErrorsNameTheInput) {
     g.camera.k1 = 0.01;
     EXPECT_EQ(sweep.compute(i1, i2, g, out).code(), StatusCode::kUnsupported);
     g = p.geometry;
-    g.pose2.R_site_from_cam(0, 0) = 2.0;
-    EXPECT_NE(reasonOf(i1, i2, g, out).find("pose2"), std::string::npos);
+    g.site_from_cam2.R(0, 0) = 2.0;
+    EXPECT_NE(reasonOf(i1, i2, g, out).find("site_from_cam2"), std::string::npos);
     g = p.geometry;
-    g.pose2.position_site_m = g.pose1.position_site_m;
-    EXPECT_NE(reasonOf(i1, i2, g, out).find("pose2"), std::string::npos);
+    g.site_from_cam2.t_m = g.site_from_cam1.t_m;
+    EXPECT_NE(reasonOf(i1, i2, g, out).find("site_from_cam2"), std::string::npos);
     g = p.geometry;
-    g.pose2.position_site_m.z() += 100.0;  // camera 2 below the nearest plane
+    g.site_from_cam2.t_m.z() += 100.0;  // camera 2 below the nearest plane
     EXPECT_EQ(sweep.compute(i1, i2, g, out).code(), StatusCode::kDegenerate);
 }
 

@@ -461,21 +461,24 @@ void hashTerrain(Hasher& h) noexcept {
                                                             ImageView<const std::int16_t>(disparity, 64, 48), {},
                                                             Span<terrain::TerrainPoint>(points, 64 * 48), stats)
                                            .code()));
-    terrain::GridConfig grid;
-    grid.origin_north_m = -20.0;
-    grid.origin_east_m = -20.0;
-    grid.cell_m = 0.5;
-    grid.cols = 80;
-    grid.rows = 80;
-    static std::byte pool[80U * 80U * 10U + 256U];
+    terrain::HeightMapConfig mc;
+    mc.grid.north_edge_m = 20.0;
+    mc.grid.west_edge_m = -20.0;
+    mc.grid.cell_m = 0.5;
+    mc.grid.cols = 80;
+    mc.grid.rows = 80;
+    mc.reducer = terrain::Reducer::kMean;  // highest and lowest are kept too
+    static std::byte pool[80U * 80U * 14U + 256U];
     Arena arena(pool, sizeof pool);
     static terrain::HeightMap map;
-    h.addI64(static_cast<std::int64_t>(map.init(grid, arena).code()));
+    h.addI64(static_cast<std::int64_t>(map.init(mc, arena).code()));
     h.addI64(static_cast<std::int64_t>(
         map.add(Span<const terrain::TerrainPoint>(points, static_cast<std::size_t>(stats.points))).code()));
-    for (std::int32_t r = 0; r < grid.rows; ++r) {
-        for (std::int32_t c = 0; c < grid.cols; ++c) {
+    for (std::int32_t r = 0; r < mc.grid.rows; ++r) {
+        for (std::int32_t c = 0; c < mc.grid.cols; ++c) {
             h.addFloat(map.highest(c, r));
+            h.addFloat(map.lowest(c, r));
+            h.addFloat(map.elevation(c, r));
             h.addI64(map.count(c, r));
         }
     }
@@ -534,9 +537,9 @@ std::uint64_t descentSection() noexcept {
         sim::FrameOutput out;
         out.image16 = ImageView<std::uint16_t>(images[k], kD, kD);
         h.addI64(static_cast<std::int64_t>(sim::renderFrame(r, out, nullptr).code()));
-        descent::CameraPose& p = (k == 0) ? g.pose1 : g.pose2;
-        p.R_site_from_cam = r.pose.R;
-        p.position_site_m = r.pose.t_m;
+        RigidPose& p = (k == 0) ? g.site_from_cam1 : g.site_from_cam2;
+        p.R = r.pose.R;
+        p.t_m = r.pose.t_m;
     }
     descent::Config c;
     c.max_width = kD;
@@ -562,6 +565,26 @@ std::uint64_t descentSection() noexcept {
         h.addFloat(depth[i]);
         h.addFloat(score[i]);
         h.addI64(reason[i]);
+    }
+    // The depth through the height map, as the descent mapper does: mean per cell.
+    terrain::HeightMapConfig mc;
+    mc.grid.north_edge_m = g.site_from_cam1.t_m.x() + 80.0;  // the whole footprint (~144 m)
+    mc.grid.west_edge_m = g.site_from_cam1.t_m.y() - 80.0;
+    mc.grid.cell_m = 5.0;
+    mc.grid.cols = 32;
+    mc.grid.rows = 32;
+    mc.reducer = terrain::Reducer::kMean;
+    static std::byte map_pool[32U * 32U * 14U + 256U];
+    Arena map_arena(map_pool, sizeof map_pool);
+    static terrain::HeightMap map;
+    h.addI64(static_cast<std::int64_t>(map.init(mc, map_arena).code()));
+    h.addI64(static_cast<std::int64_t>(
+        descent::addDepthToHeightMap(ImageView<const float>(depth, kD, kD), g.camera, g.site_from_cam1, map).code()));
+    for (std::int32_t row = 0; row < mc.grid.rows; ++row) {
+        for (std::int32_t col = 0; col < mc.grid.cols; ++col) {
+            h.addFloat(map.elevation(col, row));
+            h.addI64(map.count(col, row));
+        }
     }
     return h.value();
 }

@@ -127,19 +127,23 @@ TEST(Triangulation, ImagesCountEveryPixelAndNeverAllocate) {
 }
 
 struct MapFixture {
-    explicit MapFixture(const GridConfig& c) : pool(HeightMap::workspaceBytes(c)), arena(pool.data(), pool.size()) {
-        status = map.init(c, arena);
+    explicit MapFixture(const GridConfig& g, Reducer reducer = Reducer::kHighest)
+        : config{g, reducer}, pool(HeightMap::workspaceBytes(config)), arena(pool.data(), pool.size()) {
+        status = map.init(config, arena);
     }
+    HeightMapConfig config;
     std::vector<std::byte> pool;
     Arena arena;
     HeightMap map;
     Status status;
 };
 
+// North edge 1 m, west edge 10 m, 0.5 m cells, 20 columns (east 10..20 m) and 12 rows
+// (north 1 .. -5 m).
 GridConfig grid() {
     GridConfig c;
-    c.origin_north_m = -5.0;
-    c.origin_east_m = 10.0;
+    c.north_edge_m = 1.0;
+    c.west_edge_m = 10.0;
     c.cell_m = 0.5;
     c.cols = 20;
     c.rows = 12;
@@ -154,31 +158,111 @@ TerrainPoint at(double north, double east, double up) {
     return p;
 }
 
-TEST(HeightMap, CellsKeepTheHighestLowestAndCountAndEmptyCellsAreNoData) {
+// Points whose cells are worked out by hand from the convention (row 0 north, rows run
+// south; column 0 west; a cell holds its south and west edges).
+const TerrainPoint kPoints[] = {
+    // cell (col 3, row 7): east [11.5, 12), north [1 - 8 * 0.5, 1 - 7 * 0.5) = [-3, -2.5)
+    at(-2.9, 11.6, 0.30), at(-2.6, 11.9, 0.75), at(-2.75, 11.7, -0.1),
+    at(-5.0, 10.0, 2.0),     // the grid's south-west corner: cell (0, 11), the last row
+    at(0.99, 19.99, 4.0),    // just inside the north-east corner: cell (19, 0)
+    at(-2.5, 12.0, 1.5),     // on the south edge of row 6 and the west edge of col 4: cell (4, 6)
+    at(1.0, 10.0, 1.0),      // the grid's north edge (open): outside
+    at(0.0, 9.99, 1.0),      // west of the grid: outside
+    at(std::nan(""), 12.0, 1.0),  // not finite: outside
+};
+constexpr std::size_t kPointCount = sizeof(kPoints) / sizeof(kPoints[0]);
+
+TEST(HeightMap, PointsLandInTheDocumentedRowAndColumnAndEmptyCellsAreNoData) {
     MapFixture f(grid());
     ASSERT_TRUE(f.status.isOk());
-    // cell (col 3, row 4): east 11.5..12, north -3..-2.5
-    const TerrainPoint pts[] = {at(-2.9, 11.6, 0.30), at(-2.6, 11.9, 0.75), at(-2.75, 11.7, -0.1),
-                                at(-5.0, 10.0, 2.0),  // exactly the grid's corner: cell (0, 0)
-                                at(1.0, 10.0, 1.0),   // north edge of the grid (-5 + 12 * 0.5): outside
-                                at(0.0, 9.99, 1.0)};  // west of the grid: outside
     HeightMapStats stats;
     NoHeapScope scope;
-    ASSERT_TRUE(f.map.add(Span<const TerrainPoint>(pts, 6), &stats).isOk());
+    ASSERT_TRUE(f.map.add(Span<const TerrainPoint>(kPoints, kPointCount), &stats).isOk());
     EXPECT_EQ(scope.heapCalls(), 0U);
-    EXPECT_EQ(stats.added, 4);
-    EXPECT_EQ(stats.outside, 2);
-    EXPECT_FLOAT_EQ(f.map.highest(3, 4), 0.75F);
-    EXPECT_FLOAT_EQ(f.map.lowest(3, 4), -0.1F);
-    EXPECT_FLOAT_EQ(f.map.spread(3, 4), 0.85F);
-    EXPECT_EQ(f.map.count(3, 4), 3);
-    EXPECT_FLOAT_EQ(f.map.highest(0, 0), 2.0F);
-    EXPECT_EQ(f.map.highest(4, 4), kNoData);
-    EXPECT_EQ(f.map.spread(4, 4), kNoData);
-    EXPECT_EQ(f.map.count(19, 11), 0);
-    EXPECT_EQ(f.map.filledCells(), 2);
+    EXPECT_EQ(stats.added, 6);
+    EXPECT_EQ(stats.outside, 3);
+    EXPECT_EQ(f.map.count(3, 7), 3);
+    EXPECT_EQ(f.map.count(0, 11), 1);
+    EXPECT_FLOAT_EQ(f.map.elevation(0, 11), 2.0F);
+    EXPECT_EQ(f.map.count(19, 0), 1);
+    EXPECT_FLOAT_EQ(f.map.elevation(19, 0), 4.0F);
+    EXPECT_EQ(f.map.count(4, 6), 1);
+    EXPECT_FLOAT_EQ(f.map.elevation(4, 6), 1.5F);
+    EXPECT_EQ(f.map.filledCells(), 4);
+    // Cell centres: north_edge - (row + 0.5) cell, west_edge + (col + 0.5) cell.
+    EXPECT_DOUBLE_EQ(f.map.centreNorthM(7), -2.75);
+    EXPECT_DOUBLE_EQ(f.map.centreEastM(3), 11.75);
+    // NO_DATA (a NaN) from every accessor where nothing fell.
+    EXPECT_EQ(f.map.count(4, 4), 0);
+    EXPECT_TRUE(isNoData(f.map.elevation(4, 4)));
+    EXPECT_TRUE(isNoData(f.map.highest(4, 4)));
+    EXPECT_TRUE(isNoData(f.map.lowest(4, 4)));
+    EXPECT_TRUE(isNoData(f.map.spread(4, 4)));
+    EXPECT_TRUE(std::isnan(kNoData));
     f.map.clear();
     EXPECT_EQ(f.map.filledCells(), 0);
+    EXPECT_TRUE(isNoData(f.map.elevation(3, 7)));
+}
+
+TEST(HeightMap, EachReducerGivesItsElevationAndEveryMapKeepsHighestLowestSpreadAndCount) {
+    for (const Reducer r : {Reducer::kHighest, Reducer::kMean, Reducer::kLowest}) {
+        MapFixture f(grid(), r);
+        ASSERT_TRUE(f.status.isOk());
+        NoHeapScope scope;
+        ASSERT_TRUE(f.map.add(Span<const TerrainPoint>(kPoints, kPointCount)).isOk());
+        EXPECT_EQ(scope.heapCalls(), 0U);
+        EXPECT_EQ(f.map.reducer(), r);
+        // Cell (3, 7) holds 0.30, 0.75 and -0.1 m.
+        EXPECT_FLOAT_EQ(f.map.highest(3, 7), 0.75F);
+        EXPECT_FLOAT_EQ(f.map.lowest(3, 7), -0.1F);
+        EXPECT_FLOAT_EQ(f.map.spread(3, 7), 0.85F);
+        EXPECT_EQ(f.map.count(3, 7), 3);
+        const float expected = r == Reducer::kHighest ? 0.75F : r == Reducer::kLowest ? -0.1F : 0.95F / 3.0F;
+        EXPECT_NEAR(f.map.elevation(3, 7), expected, 1e-6) << static_cast<int>(r);
+        // A cell of one point: every reducer gives that point.
+        EXPECT_FLOAT_EQ(f.map.elevation(0, 11), 2.0F);
+        EXPECT_FLOAT_EQ(f.map.spread(0, 11), 0.0F);
+        EXPECT_TRUE(isNoData(f.map.elevation(5, 5)));
+    }
+}
+
+TEST(HeightMap, DoublePointsBinAsTheirFloatPointsDo) {
+    MapFixture a(grid(), Reducer::kMean), b(grid(), Reducer::kMean), s(grid(), Reducer::kMean);
+    HeightMapStats sa, sb, ss;
+    ASSERT_TRUE(a.map.add(Span<const TerrainPoint>(kPoints, kPointCount), &sa).isOk());
+    std::vector<Vec3> sites;
+    for (const TerrainPoint& p : kPoints) {
+        sites.emplace_back(static_cast<double>(p.x_m), static_cast<double>(p.y_m), static_cast<double>(p.z_m));
+    }
+    NoHeapScope scope;
+    for (const Vec3& site : sites) {
+        ASSERT_TRUE(b.map.add(site, &sb).isOk());  // one at a time
+    }
+    ASSERT_TRUE(s.map.add(Span<const Vec3>(sites.data(), sites.size()), &ss).isOk());  // a span
+    EXPECT_EQ(scope.heapCalls(), 0U);
+    EXPECT_EQ(sa.added, sb.added);
+    EXPECT_EQ(sa.outside, sb.outside);
+    EXPECT_EQ(sa.added, ss.added);
+    EXPECT_EQ(sa.outside, ss.outside);
+    for (int r = 0; r < grid().rows; ++r) {
+        for (int c = 0; c < grid().cols; ++c) {
+            const float ea = a.map.elevation(c, r), eb = b.map.elevation(c, r), es = s.map.elevation(c, r);
+            EXPECT_EQ(std::memcmp(&ea, &eb, sizeof ea), 0) << c << "," << r;
+            EXPECT_EQ(std::memcmp(&ea, &es, sizeof ea), 0) << c << "," << r;
+            EXPECT_EQ(a.map.count(c, r), b.map.count(c, r));
+            EXPECT_EQ(a.map.count(c, r), s.map.count(c, r));
+        }
+    }
+}
+
+TEST(HeightMap, ASaturatedCellKeepsTheMeanOfItsFirst65535PointsAndItsExtremes) {
+    MapFixture f(grid(), Reducer::kMean);
+    std::vector<TerrainPoint> pts(65535, at(-2.75, 11.7, 1.0));
+    pts.push_back(at(-2.75, 11.7, 100.0));
+    ASSERT_TRUE(f.map.add(Span<const TerrainPoint>(pts.data(), pts.size())).isOk());
+    EXPECT_EQ(f.map.count(3, 7), 65535);
+    EXPECT_FLOAT_EQ(f.map.elevation(3, 7), 1.0F);
+    EXPECT_FLOAT_EQ(f.map.highest(3, 7), 100.0F);
 }
 
 TEST(HeightMap, MergingTwoMapsEqualsOneMapOfAllPointsBitForBit) {
@@ -212,27 +296,80 @@ TEST(HeightMap, MergingTwoMapsEqualsOneMapOfAllPointsBitForBit) {
         }
     }
     EXPECT_GT(filled, 150);
+    // The mean merges its sums: the same mean up to float rounding.
+    MapFixture mall(grid(), Reducer::kMean), mfirst(grid(), Reducer::kMean), msecond(grid(), Reducer::kMean);
+    ASSERT_TRUE(mall.map.add(Span<const TerrainPoint>(a.data(), a.size())).isOk());
+    ASSERT_TRUE(mall.map.add(Span<const TerrainPoint>(b.data(), b.size())).isOk());
+    ASSERT_TRUE(mfirst.map.add(Span<const TerrainPoint>(a.data(), a.size())).isOk());
+    ASSERT_TRUE(msecond.map.add(Span<const TerrainPoint>(b.data(), b.size())).isOk());
+    ASSERT_TRUE(mfirst.map.merge(msecond.map).isOk());
+    for (int r = 0; r < grid().rows; ++r) {
+        for (int c = 0; c < grid().cols; ++c) {
+            EXPECT_EQ(mfirst.map.count(c, r), mall.map.count(c, r));
+            if (mall.map.count(c, r) > 0) {
+                EXPECT_NEAR(mfirst.map.elevation(c, r), mall.map.elevation(c, r), 1e-5) << c << "," << r;
+            }
+        }
+    }
     GridConfig other = grid();
-    other.origin_east_m += 0.5;
+    other.west_edge_m += 0.5;
     MapFixture shifted(other);
     EXPECT_EQ(first.map.merge(shifted.map).code(), StatusCode::kSizeMismatch);
+    EXPECT_EQ(first.map.merge(mall.map).code(), StatusCode::kSizeMismatch);  // another reducer
 }
 
-TEST(HeightMap, BadGridsAndSmallArenasAreRefusedNamingTheField) {
-    GridConfig c = grid();
-    c.cell_m = 0.0;
+TEST(HeightMap, SetGridMovesTheMapWithinItsCapacityAndEmptiesIt) {
+    MapFixture f(grid(), Reducer::kMean);
+    ASSERT_TRUE(f.map.add(Span<const TerrainPoint>(kPoints, kPointCount)).isOk());
+    GridConfig moved = grid();
+    moved.north_edge_m = 101.0;  // 100 m further north, 10 x 10 cells of 1 m
+    moved.cell_m = 1.0;
+    moved.cols = 10;
+    moved.rows = 10;
+    NoHeapScope scope;
+    ASSERT_TRUE(f.map.setGrid(moved).isOk());
+    EXPECT_EQ(f.map.filledCells(), 0);
+    ASSERT_TRUE(f.map.add(Vec3(97.5, 12.5, -3.0)).isOk());  // row floor(101 - 97.5) = 3, col 2
+    EXPECT_EQ(scope.heapCalls(), 0U);
+    EXPECT_FLOAT_EQ(f.map.elevation(2, 3), 3.0F);
+    EXPECT_EQ(f.map.filledCells(), 1);
+    GridConfig big = grid();
+    big.cols = 21;  // 21 x 12 > 20 x 12 cells
+    EXPECT_EQ(f.map.setGrid(big).code(), StatusCode::kSizeMismatch);
+    EXPECT_EQ(f.map.grid().cols, 10);  // the refused grid left the map as it was
+    EXPECT_EQ(f.map.filledCells(), 1);
+    big.cell_m = -1.0;
+    EXPECT_NE(std::strstr(f.map.setGrid(big).reason(), "cell_m"), nullptr);
+}
+
+TEST(HeightMap, BadConfigsAndSmallArenasAreRefusedNamingTheField) {
+    HeightMapConfig c{grid(), Reducer::kHighest};
+    EXPECT_TRUE(c.validate().isOk());
+    c.grid.cell_m = 0.0;
     EXPECT_NE(std::strstr(c.validate().reason(), "cell_m"), nullptr);
-    c = grid();
-    c.cols = 4096;
+    c.grid = grid();
+    c.grid.cols = kMaxGridSide + 1;
     EXPECT_NE(std::strstr(c.validate().reason(), "cols"), nullptr);
-    c = grid();
-    c.origin_north_m = std::nan("");
-    EXPECT_EQ(c.validate().code(), StatusCode::kInvalidConfig);
+    c.grid = grid();
+    c.grid.rows = 0;
+    EXPECT_NE(std::strstr(c.validate().reason(), "rows"), nullptr);
+    c.grid = grid();
+    c.grid.north_edge_m = std::nan("");
+    EXPECT_NE(std::strstr(c.validate().reason(), "north_edge_m"), nullptr);
+    c.grid = grid();
+    c.reducer = static_cast<Reducer>(9);
+    EXPECT_NE(std::strstr(c.validate().reason(), "reducer"), nullptr);
+    EXPECT_EQ(HeightMap::workspaceBytes(c), 0U);
+    c.reducer = Reducer::kMean;
+    EXPECT_GT(HeightMap::workspaceBytes(c), HeightMap::workspaceBytes(HeightMapConfig{grid(), Reducer::kHighest}));
     std::vector<std::byte> small(100);
     Arena arena(small.data(), small.size());
     HeightMap map;
-    EXPECT_EQ(map.init(grid(), arena).code(), StatusCode::kOutOfMemory);
+    EXPECT_EQ(map.init(c, arena).code(), StatusCode::kOutOfMemory);
     EXPECT_EQ(map.add(Span<const TerrainPoint>()).code(), StatusCode::kNotInitialized);
+    EXPECT_EQ(map.add(Vec3(0.0, 0.0, 0.0)).code(), StatusCode::kNotInitialized);
+    EXPECT_EQ(map.add(Span<const Vec3>()).code(), StatusCode::kNotInitialized);
+    EXPECT_EQ(map.setGrid(grid()).code(), StatusCode::kNotInitialized);
 }
 
 }  // namespace

@@ -19,8 +19,8 @@ void BM_DescentSweep(benchmark::State& state) {
     const int planes = static_cast<int>(state.range(0));
     vtm::descent::PairGeometry g;
     g.camera = vtm::makePinhole(kSize, kSize, 45.0);
-    g.pose1.position_site_m = vtm::Vec3(0.0, 0.0, -2000.0);
-    g.pose2.position_site_m = vtm::Vec3(0.0, 20.0, -1040.0);
+    g.site_from_cam1.t_m = vtm::Vec3(0.0, 0.0, -2000.0);
+    g.site_from_cam2.t_m = vtm::Vec3(0.0, 20.0, -1040.0);
     std::vector<std::uint16_t> i1(static_cast<std::size_t>(kSize) * kSize), i2(i1.size());
     vtm::Random rng(42u);
     for (std::size_t i = 0; i < i1.size(); ++i) {

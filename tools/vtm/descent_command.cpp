@@ -15,6 +15,7 @@
 #include "vtm/ground/image_io.hpp"
 #include "vtm/ground/pfm.hpp"
 #include "vtm/ground/sim_output.hpp"
+#include "vtm/ground/terrain_products.hpp"
 
 namespace vtm::tools {
 namespace {
@@ -22,19 +23,13 @@ namespace {
 using ground::FloatImage;
 using ground::Grey16Image;
 
-constexpr std::int32_t kMaxGridCells = 4096;  // per side
-
 int fail(int code, const std::string& message) {
     std::fprintf(stderr, "vtm descent: %s\n", message.c_str());
     return code;
 }
 
-descent::CameraPose toPose(const ground::SimCameraPose& p) {
-    const RigidPose site_from_cam = ground::siteFromCam(p);
-    descent::CameraPose c;
-    c.R_site_from_cam = site_from_cam.R;
-    c.position_site_m = site_from_cam.t_m;
-    return c;
+RigidPose toPose(const ground::SimCameraPose& p) {
+    return ground::siteFromCam(p);
 }
 
 struct Inputs {
@@ -78,8 +73,8 @@ std::string loadInputs(const DescentOptions& o, Inputs& in) {
     if (!p2.ok) return "--pose2 " + p2.error;
     in.image1 = std::move(i1.value);
     in.image2 = std::move(i2.value);
-    in.geometry.pose1 = toPose(p1.value);
-    in.geometry.pose2 = toPose(p2.value);
+    in.geometry.site_from_cam1 = toPose(p1.value);
+    in.geometry.site_from_cam2 = toPose(p2.value);
     return "";
 }
 
@@ -99,7 +94,7 @@ std::string makeConfig(const DescentOptions& o, Inputs& in) {
         if (!e.empty()) return e;
     } else {
         // Height of camera 1 above the site datum (elevation 0), +-30 %.
-        const double h = -in.geometry.pose1.position_site_m.z();
+        const double h = -in.geometry.site_from_cam1.t_m.z();
         if (!(h > 0.0)) {
             return "--pose1 " + o.pose1 + ": camera 1 is not above elevation 0; give --depth MIN:MAX";
         }
@@ -115,16 +110,12 @@ std::string makeConfig(const DescentOptions& o, Inputs& in) {
     return "";
 }
 
-struct Grid {
-    descent::GridSpec spec;
-    std::int32_t cols = 0;
-    std::int32_t rows = 0;
-};
-
-// The grid covering every valid point, cell = --cell or one image-1 pixel on the ground.
-std::string planGrid(const DescentOptions& o, const Inputs& in, const FloatImage& depth, Grid& g) {
+// The grid covering every valid point (terrain::HeightMap's convention: origin at the
+// north-west corner, a cell holds its south and west edges), cell = --cell or one image-1
+// pixel on the ground.
+std::string planGrid(const DescentOptions& o, const Inputs& in, const FloatImage& depth, terrain::GridConfig& g) {
     const CameraModel& cam = in.geometry.camera;
-    const descent::CameraPose& pose = in.geometry.pose1;
+    const RigidPose& pose = in.geometry.site_from_cam1;
     double nMin = 1e300, nMax = -1e300, eMin = 1e300, eMax = -1e300, dSum = 0.0;
     std::size_t count = 0;
     for (std::int32_t y = 0; y < depth.height; ++y) {
@@ -132,7 +123,7 @@ std::string planGrid(const DescentOptions& o, const Inputs& in, const FloatImage
             const float d = depth.at(x, y);
             if (!std::isfinite(d)) continue;
             const Vec3 ray((x - cam.cx_px) / cam.fx_px, (y - cam.cy_px) / cam.fy_px, 1.0);
-            const Vec3 p = pose.R_site_from_cam * (ray * static_cast<double>(d)) + pose.position_site_m;
+            const Vec3 p = pose.R * (ray * static_cast<double>(d)) + pose.t_m;
             nMin = std::min(nMin, p.x());
             nMax = std::max(nMax, p.x());
             eMin = std::min(eMin, p.y());
@@ -142,13 +133,13 @@ std::string planGrid(const DescentOptions& o, const Inputs& in, const FloatImage
         }
     }
     if (count == 0U) return "no pixel got a depth (texture, overlap or --depth range?)";
-    g.spec.cell_m = o.cell_m > 0.0 ? o.cell_m : (dSum / static_cast<double>(count)) / cam.fx_px;
-    g.spec.origin_north_m = std::ceil(nMax / g.spec.cell_m) * g.spec.cell_m;
-    g.spec.origin_east_m = std::floor(eMin / g.spec.cell_m) * g.spec.cell_m;
-    const double rows = std::floor((g.spec.origin_north_m - nMin) / g.spec.cell_m) + 1.0;
-    const double cols = std::floor((eMax - g.spec.origin_east_m) / g.spec.cell_m) + 1.0;
-    if (rows > kMaxGridCells || cols > kMaxGridCells) {
-        return "--cell " + std::to_string(g.spec.cell_m) + ": the grid would exceed 4096 cells per side";
+    g.cell_m = o.cell_m > 0.0 ? o.cell_m : (dSum / static_cast<double>(count)) / cam.fx_px;
+    g.north_edge_m = (std::floor(nMax / g.cell_m) + 1.0) * g.cell_m;  // beyond nMax: the north edge is open
+    g.west_edge_m = std::floor(eMin / g.cell_m) * g.cell_m;
+    const double rows = std::floor((g.north_edge_m - nMin) / g.cell_m) + 1.0;
+    const double cols = std::floor((eMax - g.west_edge_m) / g.cell_m) + 1.0;
+    if (rows > terrain::kMaxGridSide || cols > terrain::kMaxGridSide) {
+        return "--cell " + std::to_string(g.cell_m) + ": the grid would exceed 4096 cells per side";
     }
     g.rows = static_cast<std::int32_t>(rows);
     g.cols = static_cast<std::int32_t>(cols);
@@ -212,14 +203,18 @@ int runDescent(const DescentOptions& o) {
         return fail(kExitInputError, std::string(s.reason()) + " (" + o.image1 + ", " + o.image2 + ", " + o.camera +
                                          "; detail " + std::to_string(s.detail()) + ")");
     }
-    Grid g;
-    error = planGrid(o, in, depth, g);
+    terrain::HeightMapConfig mc;
+    mc.reducer = terrain::Reducer::kMean;
+    error = planGrid(o, in, depth, mc.grid);
     if (!error.empty()) return fail(kExitInputError, error);
-    FloatImage elevation(g.cols, g.rows);
-    ground::Image<std::uint16_t> count(g.cols, g.rows);
-    const Status e = descent::elevationGrid(depth.view(), in.geometry.camera, in.geometry.pose1, g.spec,
-                                            elevation.view(), count.view());
+    std::vector<std::byte> map_pool(terrain::HeightMap::workspaceBytes(mc));
+    Arena map_arena(map_pool.data(), map_pool.size());
+    terrain::HeightMap map;
+    Status e = map.init(mc, map_arena);
+    if (e.isOk()) e = descent::addDepthToHeightMap(depth.view(), in.geometry.camera, in.geometry.site_from_cam1, map);
     if (!e.isOk()) return fail(kExitInputError, std::string("elevation grid: ") + e.reason());
+    const FloatImage elevation = ground::elevationImage(map);
+    const terrain::GridConfig& g = map.grid();
     error = writeOutputs(o, depth, elevation);
     if (!error.empty()) return fail(kExitInputError, error);
     const double px = static_cast<double>(depth.pixels.size());
@@ -228,8 +223,8 @@ int runDescent(const DescentOptions& o) {
                 in.config.depth_max_m, stats.scale);
     std::printf("  valid %.2f %%, low parallax %.2f %%, out of view %.2f %%\n", 100.0 * stats.valid_pixels / px,
                 100.0 * stats.reason_counts[3] / px, 100.0 * stats.reason_counts[2] / px);
-    std::printf("  grid %dx%d cells of %.3f m, north edge %.3f m, west edge %.3f m\n", g.cols, g.rows, g.spec.cell_m,
-                g.spec.origin_north_m, g.spec.origin_east_m);
+    std::printf("  grid %dx%d cells of %.3f m, north edge %.3f m, west edge %.3f m\n", g.cols, g.rows, g.cell_m,
+                g.north_edge_m, g.west_edge_m);
     return kExitOk;
 }
 

@@ -151,7 +151,7 @@ Accuracy measure(const World& w, const app::DescentProducts& p, std::vector<Vec3
     o.truth.point_site_m = ImageView<float>(pts.data(), 3 * W, H);
     if (!sim::renderFrame(sim::scenarioFrameRequest(w.scenario, w.terrain, *f1), o, nullptr).isOk()) return a;
     const CameraModel& cam = p.geometry.camera;
-    const descent::CameraPose& pose = p.geometry.pose1;
+    const RigidPose& pose = p.geometry.site_from_cam1;
     std::vector<double> rel, sorted_depth;
     double sum = 0.0, sum2 = 0.0;
     for (std::int32_t y = 0; y < H; ++y) {
@@ -161,7 +161,7 @@ Accuracy measure(const World& w, const app::DescentProducts& p, std::vector<Vec3
             const float d = p.depth_m.row(y)[x];
             if (!std::isfinite(d)) continue;
             const Vec3 ray((x - cam.cx_px) / cam.fx_px, (y - cam.cy_px) / cam.fy_px, 1.0);
-            const Vec3 site = pose.R_site_from_cam * (ray * static_cast<double>(d)) + pose.position_site_m;
+            const Vec3 site = pose.R * (ray * static_cast<double>(d)) + pose.t_m;
             points.push_back(site);
             if (!std::isfinite(depth[i])) continue;
             rel.push_back(std::fabs(static_cast<double>(d - depth[i])) / depth[i]);
@@ -228,14 +228,14 @@ std::string writeProducts(const std::string& dir, const app::DescentProducts& p,
     std::snprintf(name, sizeof name, "pair%d", row.index);
     row.prefix = name;
     const std::string base = dir + "/" + row.prefix;
-    const FloatImage elevation = copyOf(p.elevation_m);
+    const FloatImage elevation = ground::elevationImage(*p.height_map);
     const FloatImage depth = copyOf(p.depth_m);
     float dlo = 1e30f, dhi = -1e30f;
     for (const float v : depth.pixels) {
         if (std::isfinite(v)) { dlo = std::min(dlo, v); dhi = std::max(dhi, v); }
     }
     ground::Outcome r = ground::writePfm(base + "_elevation.pfm", elevation);
-    if (r.ok) r = ground::writePng(base + "_elevation.png", ground::shadedRelief(ground::cropToFinite(elevation), p.grid.cell_m));
+    if (r.ok) r = ground::writePng(base + "_elevation.png", ground::shadedRelief(ground::cropToFinite(elevation), p.height_map->grid().cell_m));
     if (r.ok) r = ground::writePfm(base + "_depth.pfm", depth);
     // Depth coloured like disparity: near (small depth) red, far purple.
     FloatImage inverse(depth.width, depth.height, 1, std::nanf(""));
@@ -399,7 +399,7 @@ std::string flyDescent(const World& world, hal::Camera& camera, hal::Odometry& o
             continue;
         }
         row.ok = true;
-        row.camera_height_m = -p->geometry.pose1.position_site_m.z();
+        row.camera_height_m = -p->geometry.site_from_cam1.t_m.z();
         row.matches = p->matching.matched;
         row.inliers = p->motion.inliers;
         row.rot_deg = p->refine_rotation_deg;

@@ -101,18 +101,6 @@ FloatImage rangeImage(const app::WideBaselineProducts& p) {
     return range;
 }
 
-// The height map as an image, north up (row 0 = the grid's northern row), NaN = NO_DATA.
-FloatImage elevationImage(const terrain::HeightMap& map) {
-    const terrain::GridConfig& g = map.grid();
-    FloatImage out(g.cols, g.rows, 1, std::nanf(""));
-    for (std::int32_t row = 0; row < g.rows; ++row) {
-        for (std::int32_t col = 0; col < g.cols; ++col) {
-            if (map.count(col, row) != 0U) out.at(col, g.rows - 1 - row) = map.highest(col, row);
-        }
-    }
-    return out;
-}
-
 GreyImage copy8(const ImageView<const std::uint8_t>& v) {
     GreyImage out(v.width(), v.height());
     for (std::int32_t y = 0; y < v.height(); ++y) {
@@ -171,9 +159,8 @@ Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, 
     for (std::int32_t row = 0; row < g.rows; ++row) {
         for (std::int32_t col = 0; col < g.cols; ++col) {
             if (map.count(col, row) == 0U) continue;
-            const double e = static_cast<double>(map.highest(col, row)) -
-                             w.terrain.elevationAt(g.origin_north_m + (row + 0.5) * g.cell_m,
-                                                   g.origin_east_m + (col + 0.5) * g.cell_m);
+            const double e = static_cast<double>(map.elevation(col, row)) -
+                             w.terrain.elevationAt(map.centreNorthM(row), map.centreEastM(col));
             dz.push_back(std::fabs(e));
             sum += e;
         }
@@ -196,7 +183,7 @@ std::string writeProducts(const std::string& dir, const app::WideBaselineProduct
     std::vector<Vec3> points;
     points.reserve(p.points.size());
     for (const terrain::TerrainPoint& q : p.points) points.emplace_back(q.x_m, q.y_m, q.z_m);
-    const FloatImage elevation = elevationImage(*p.height_map);
+    const FloatImage elevation = ground::elevationImage(*p.height_map);
     ground::Outcome r = ground::writePng(base + "image1.png", copy8(p.image1));
     if (r.ok) r = ground::writePng(base + "image2.png", copy8(p.image2));
     if (r.ok) r = ground::writePng(base + "rectified1.png", copy8(p.rectified1));
@@ -253,7 +240,8 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
           "odometry with its navigation errors. Frames "
        << config.frame_width << " x " << config.frame_height << ", " << (config.stereo.d_max - config.stereo.d_min + 1)
        << " disparities, ranges " << config.range_min_m << ".." << config.range_max_m << " m, height map "
-       << config.grid.cols << " x " << config.grid.rows << " cells of " << config.grid.cell_m
+       << config.height_map.grid.cols << " x " << config.height_map.grid.rows << " cells of "
+       << config.height_map.grid.cell_m
        << " m; mapper memory planned at init: " << mapper->memoryBytes() << " bytes.\n\n";
     const app::WideBaselineProducts* p = mapper->products();
     if (!st.isOk() || p == nullptr) {

@@ -13,17 +13,28 @@ Status invalid(const char* reason, std::int64_t value = 0) noexcept {
     return Status(StatusCode::kInvalidConfig, reason, value);
 }
 
-// Element counts of the mapper's own buffers (the sweep plans its own).
+// Element counts of the mapper's own buffers (the sweep and the height map plan their own).
 struct Buffers {
     std::size_t pixels;  // one frame
-    std::size_t cells;   // the grid
 };
 
 Buffers buffersOf(const DescentMapperConfig& c) noexcept {
     Buffers b{};
     b.pixels = static_cast<std::size_t>(c.sweep.max_width) * static_cast<std::size_t>(c.sweep.max_height);
-    b.cells = static_cast<std::size_t>(c.grid_cells) * static_cast<std::size_t>(c.grid_cells);
     return b;
+}
+
+// The height map's configuration: grid_cells x grid_cells; the origin and the cell are
+// set per request (runGrid), so these are placeholders that validate.
+terrain::HeightMapConfig heightMapOf(const DescentMapperConfig& c) noexcept {
+    terrain::HeightMapConfig m;
+    m.grid.north_edge_m = 0.0;
+    m.grid.west_edge_m = 0.0;
+    m.grid.cell_m = 1.0;
+    m.grid.cols = c.grid_cells;
+    m.grid.rows = c.grid_cells;
+    m.reducer = c.grid_reducer;
+    return m;
 }
 
 using detail::carve;
@@ -69,6 +80,9 @@ Status DescentMapperConfig::validate() const noexcept {
     if (!detail::inRange(grid_cell_m, 0.0, 1.0e4)) {
         return invalid("grid_cell_m: must be 0 (one pixel at the camera height) or a cell in metres up to 1e4");
     }
+    if (!heightMapOf(*this).validate().isOk()) {
+        return invalid("grid_reducer: must be kHighest, kMean or kLowest", static_cast<std::int64_t>(grid_reducer));
+    }
     return Status::ok();
 }
 
@@ -86,8 +100,7 @@ std::size_t DescentMapper::workspaceBytes(const DescentMapperConfig& config) noe
            + 2U * Arena::arrayBytes<std::uint16_t>(b.pixels)            // image 1, image 2
            + Arena::arrayBytes<float>(b.pixels)                         // depth of image 1
            + Arena::arrayBytes<std::uint8_t>(b.pixels)                  // reason per pixel
-           + Arena::arrayBytes<float>(b.cells)                          // elevation grid
-           + Arena::arrayBytes<std::uint16_t>(b.cells);                 // points per cell
+           + terrain::HeightMap::workspaceBytes(heightMapOf(config));   // the height map's own plan
 }
 
 Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal::Camera& camera,
@@ -110,8 +123,7 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
     image2_ = carve<std::uint16_t>(arena, w, h);
     depth_ = carve<float>(arena, w, h);
     reason_ = carve<std::uint8_t>(arena, w, h);
-    elevation_ = carve<float>(arena, config.grid_cells, config.grid_cells);
-    count_ = carve<std::uint16_t>(arena, config.grid_cells, config.grid_cells);
+    VTM_RETURN_IF_ERROR(map_.init(heightMapOf(config), arena));
     if (config.refine_pose) {
         VTM_RETURN_IF_ERROR(detector_.init(config.detector, arena));
         VTM_RETURN_IF_ERROR(matcher_.init(config.matcher, arena));
@@ -124,7 +136,7 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
         }
     }
     if (image1_.data() == nullptr || image2_.data() == nullptr || depth_.data() == nullptr ||
-        reason_.data() == nullptr || elevation_.data() == nullptr || count_.data() == nullptr) {
+        reason_.data() == nullptr) {
         return Status(StatusCode::kOutOfMemory, "DescentMapper::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
@@ -169,20 +181,12 @@ Status DescentMapper::planGeometry() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     descent::PairGeometry& g = products_.geometry;
     g.camera = model_;
-    RigidPose site_from_cam1;
-    RigidPose site_from_cam2;
-    Status st = cameraPoseInSite(pose1_, config_.mount, site_from_cam1);
+    Status st = cameraPoseInSite(pose1_, config_.mount, g.site_from_cam1);
     if (st.isOk()) {
-        g.pose1.R_site_from_cam = site_from_cam1.R;
-        g.pose1.position_site_m = site_from_cam1.t_m;
-        st = cameraPoseInSite(pose2_, config_.mount, site_from_cam2);
+        st = cameraPoseInSite(pose2_, config_.mount, g.site_from_cam2);
     }
-    if (st.isOk()) {
-        g.pose2.R_site_from_cam = site_from_cam2.R;
-        g.pose2.position_site_m = site_from_cam2.t_m;
-    }
-    const double h1 = -g.pose1.position_site_m.z();  // site z is down
-    const double h2 = -g.pose2.position_site_m.z();
+    const double h1 = -g.site_from_cam1.t_m.z();  // site z is down
+    const double h2 = -g.site_from_cam2.t_m.z();
     if (st.isOk() && !(h1 > 0.0)) {
         st = Status(StatusCode::kDegenerate, "geometry: camera 1 is not above the site datum");
     }
@@ -211,8 +215,8 @@ double cornerRange(const CameraModel& m, double z) noexcept {
 
 Status DescentMapper::matchFeatures(const features::MatchPrediction& prediction) noexcept {
     features::VisibilityPrior prior;
-    prior.up_a = products_.geometry.pose1.R_site_from_cam.transpose() * Vec3(0.0, 0.0, -1.0);
-    prior.camera_height_m = -products_.geometry.pose1.position_site_m.z();
+    prior.up_a = products_.geometry.site_from_cam1.R.transpose() * Vec3(0.0, 0.0, -1.0);
+    prior.camera_height_m = -products_.geometry.site_from_cam1.t_m.z();
     prior.margin_px = config_.match_margin_px;
     std::int64_t visible = 0;
     VTM_RETURN_IF_ERROR(features::predictVisibility(prediction, prior, visible_, visible));
@@ -253,13 +257,13 @@ Status DescentMapper::depthRangeFromFeatures() noexcept {
 
 Status DescentMapper::refinePose() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
-    descent::CameraPose& p1 = products_.geometry.pose1;
-    descent::CameraPose& p2 = products_.geometry.pose2;
+    RigidPose& p1 = products_.geometry.site_from_cam1;
+    RigidPose& p2 = products_.geometry.site_from_cam2;
     toGrey8(image1_, products_.frame1.bit_depth, grey1_);
     toGrey8(image2_, products_.frame2.bit_depth, grey2_);
     // Camera frames: X2 = R X1 + t.
-    const Mat3 R = p2.R_site_from_cam.transpose() * p1.R_site_from_cam;
-    const Vec3 t = p2.R_site_from_cam.transpose() * (p1.position_site_m - p2.position_site_m);
+    const Mat3 R = p2.R.transpose() * p1.R;
+    const Vec3 t = p2.R.transpose() * (p1.t_m - p2.t_m);
     features::MatchPrediction prediction;
     prediction.model_a = &model_;
     prediction.model_b = &model_;
@@ -268,7 +272,7 @@ Status DescentMapper::refinePose() noexcept {
     prediction.range_min_m = sweep_.config().depth_min_m;
     prediction.range_max_m = cornerRange(model_, sweep_.config().depth_max_m);
     prediction.margin_px = config_.match_margin_px;
-    prediction.surface_normal_a = p1.R_site_from_cam.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
+    prediction.surface_normal_a = p1.R.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
     Status st = matchFeatures(prediction);
     if (st.isOk()) {
         for (std::int32_t i = 0; i < matches_.count; ++i) {
@@ -294,8 +298,8 @@ Status DescentMapper::refinePose() noexcept {
         products_.refine_rotation_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, R);
         products_.refine_direction_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, t);
         // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
-        p2.R_site_from_cam = p1.R_site_from_cam * m.R_b_from_a.transpose();
-        p2.position_site_m = p1.position_site_m - p2.R_site_from_cam * m.t_b_from_a_m;
+        p2.R = p1.R * m.R_b_from_a.transpose();
+        p2.t_m = p1.t_m - p2.R * m.t_b_from_a_m;
         st = depthRangeFromFeatures();
     }
     return finish(Stage::kRefine, st, st.isOk() ? products_.motion.inliers : products_.matching.matched, t0);
@@ -315,27 +319,25 @@ Status DescentMapper::runSweep() noexcept {
 
 Status DescentMapper::runGrid() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
-    const descent::CameraPose& p1 = products_.geometry.pose1;
-    const double h1 = -p1.position_site_m.z();
+    const RigidPose& p1 = products_.geometry.site_from_cam1;
+    const double h1 = -p1.t_m.z();
     const double cell = config_.grid_cell_m > 0.0 ? config_.grid_cell_m : 2.0 * h1 / model_.fx_px;
     const double half = 0.5 * static_cast<double>(config_.grid_cells) * cell;
-    descent::GridSpec& grid = products_.grid;
+    terrain::GridConfig grid;
     grid.cell_m = cell;
-    grid.origin_north_m = p1.position_site_m.x() + half;
-    grid.origin_east_m = p1.position_site_m.y() - half;
-    products_.points_outside = 0;
-    Status st = descent::elevationGrid(depth_, model_, p1, grid, elevation_, count_, &products_.points_outside);
-    std::int64_t filled = 0;
+    grid.north_edge_m = p1.t_m.x() + half;  // centred under camera 1
+    grid.west_edge_m = p1.t_m.y() - half;
+    grid.cols = config_.grid_cells;
+    grid.rows = config_.grid_cells;
+    terrain::HeightMapStats stats;
+    Status st = map_.setGrid(grid);
     if (st.isOk()) {
-        for (std::int32_t y = 0; y < count_.height(); ++y) {
-            const std::uint16_t* row = count_.row(y);
-            for (std::int32_t x = 0; x < count_.width(); ++x) {
-                filled += row[x] != 0U ? 1 : 0;
-            }
-        }
-        if (filled == 0) {
-            st = Status(StatusCode::kNoData, "grid: no cell got an elevation (grid_cell_m, grid_cells?)");
-        }
+        st = descent::addDepthToHeightMap(depth_, model_, p1, map_, &stats);
+    }
+    products_.points_outside = stats.outside;
+    const std::int64_t filled = st.isOk() ? map_.filledCells() : 0;
+    if (st.isOk() && filled == 0) {
+        st = Status(StatusCode::kNoData, "grid: no cell got an elevation (grid_cell_m, grid_cells?)");
     }
     products_.cells_filled = filled;
     return finish(Stage::kGrid, st, filled, t0);
@@ -363,8 +365,7 @@ Status DescentMapper::map() noexcept {
     VTM_RETURN_IF_ERROR(runGrid());
     products_.depth_m = depth_;
     products_.reason = reason_;
-    products_.elevation_m = elevation_;
-    products_.count = count_;
+    products_.height_map = &map_;
     products_.image1 = image1_;
     products_.image2 = image2_;
     published_ = true;

@@ -82,7 +82,7 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(rectifyConfigOf(*this).validate());
     VTM_RETURN_IF_ERROR(stereo.validate());
     VTM_RETURN_IF_ERROR(limitsOf(*this).validate());
-    VTM_RETURN_IF_ERROR(grid.validate());
+    VTM_RETURN_IF_ERROR(height_map.validate());
     if (detector.max_width != frame_width || detector.max_height != frame_height) {
         return invalid("detector.max_width/max_height: must equal frame_width/frame_height", detector.max_width);
     }
@@ -122,7 +122,7 @@ std::size_t WideBaselineMapper::workspaceBytes(const WideBaselineMapperConfig& c
            rectify::Rectifier::workspaceBytes(rectifyConfigOf(config)) +
            stereo::MlStereo::workspaceBytes(config.stereo) +
            stereo::SpeckleFilter::workspaceBytes(speckleConfigOf(config)) +
-           terrain::HeightMap::workspaceBytes(config.grid) +
+           terrain::HeightMap::workspaceBytes(config.height_map) +
            Arena::arrayBytes<std::uint16_t>(s.frame)              // staging frame of a > 8-bit camera
            + 3U * Arena::arrayBytes<std::uint8_t>(s.frame)        // the two frames (8-bit), visibility mask
            + 3U * Arena::arrayBytes<std::uint8_t>(s.rectified)    // rectified pair, shifted image 2
@@ -152,7 +152,7 @@ Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& a
     VTM_RETURN_IF_ERROR(rectifier_.init(rectifyConfigOf(config), arena));
     VTM_RETURN_IF_ERROR(stereo_.init(config.stereo, arena));
     VTM_RETURN_IF_ERROR(speckle_.init(speckleConfigOf(config), arena));
-    VTM_RETURN_IF_ERROR(map_.init(config.grid, arena));
+    VTM_RETURN_IF_ERROR(map_.init(config.height_map, arena));
     const std::int32_t w = config.frame_width;
     const std::int32_t h = config.frame_height;
     const std::int32_t rw = rectifiedWidth(config);
@@ -489,7 +489,8 @@ Status WideBaselineMapper::runGrid() noexcept {
     const Span<const terrain::TerrainPoint> points(points_.data(), static_cast<std::size_t>(p.triangulation.points));
     Status st = map_.add(points, &p.map);
     if (st.isOk() && map_.filledCells() == 0) {
-        st = Status(StatusCode::kNoData, "grid: no point fell inside the site grid (grid origin, cell_m, cols/rows?)");
+        st = Status(StatusCode::kNoData,
+                    "grid: no point fell inside the site grid (height_map.grid: edges, cell_m, cols/rows?)");
     }
     return finish(Stage::kGrid, st, st.isOk() ? map_.filledCells() : 0, t0);
 }

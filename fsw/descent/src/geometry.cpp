@@ -28,15 +28,8 @@ Status checkCamera(const CameraModel& camera) noexcept { return detail::checkPin
 
 namespace detail {
 
-Status checkPose(const CameraPose& pose, const char* reason) noexcept {
-    if (!pose.R_site_from_cam.allFinite() || !pose.position_site_m.allFinite()) {
-        return Status(StatusCode::kInvalidArgument, reason);
-    }
-    const Mat3 e = pose.R_site_from_cam.transpose() * pose.R_site_from_cam - Mat3::Identity();
-    if (e.cwiseAbs().maxCoeff() > 1.0e-6 || !(pose.R_site_from_cam.determinant() > 0.0)) {
-        return Status(StatusCode::kInvalidArgument, reason);
-    }
-    return Status::ok();
+Status checkPose(const RigidPose& pose, const char* reason) noexcept {
+    return checkRigidPose(pose, 1.0e-6, reason);
 }
 
 Mat3 intrinsics(const CameraModel& c) noexcept {
@@ -101,11 +94,14 @@ Status checkGeometry(const PairGeometry& g, std::int32_t w, std::int32_t h) noex
         return Status(StatusCode::kSizeMismatch, "camera: width_px/height_px differ from the images' size",
                       g.camera.width_px);
     }
-    VTM_RETURN_IF_ERROR(detail::checkPose(g.pose1, "pose1: not finite or its rotation is not a rotation"));
-    VTM_RETURN_IF_ERROR(detail::checkPose(g.pose2, "pose2: not finite or its rotation is not a rotation"));
-    const Vec3 baseline = g.pose2.position_site_m - g.pose1.position_site_m;
+    VTM_RETURN_IF_ERROR(
+        detail::checkPose(g.site_from_cam1, "site_from_cam1: not finite or its rotation is not a rotation"));
+    VTM_RETURN_IF_ERROR(
+        detail::checkPose(g.site_from_cam2, "site_from_cam2: not finite or its rotation is not a rotation"));
+    const Vec3 baseline = g.site_from_cam2.t_m - g.site_from_cam1.t_m;
     if (!(baseline.norm() > 1.0e-9)) {
-        return Status(StatusCode::kInvalidArgument, "pose2: at pose1's position (no baseline, no depth)");
+        return Status(StatusCode::kInvalidArgument,
+                      "site_from_cam2: at site_from_cam1's position (no baseline, no depth)");
     }
     return Status::ok();
 }
@@ -141,8 +137,8 @@ Status PlaneSweep::prepare(const ImageView<const std::uint16_t>& image1,
         return Status(StatusCode::kInvalidArgument, "image2: grey level above 4095 (12 bits)", m2);
     }
     // X2 = R X1 + t from X_site = R1 X1 + c1 = R2 X2 + c2.
-    const Mat3 R = g.pose2.R_site_from_cam.transpose() * g.pose1.R_site_from_cam;
-    const Vec3 t = g.pose2.R_site_from_cam.transpose() * (g.pose1.position_site_m - g.pose2.position_site_m);
+    const Mat3 R = g.site_from_cam2.R.transpose() * g.site_from_cam1.R;
+    const Vec3 t = g.site_from_cam2.R.transpose() * (g.site_from_cam1.t_m - g.site_from_cam2.t_m);
     const Mat3 K = detail::intrinsics(g.camera);
     const Mat3 Kinv = detail::inverseIntrinsics(g.camera);
     const double invFar = 1.0 / config_.depth_max_m;

@@ -1,4 +1,4 @@
-// Geometry shared by the sweep and the elevation grid (internal to fsw/descent).
+// Geometry shared by the sweep and the depth-to-height-map step (internal to fsw/descent).
 #pragma once
 
 #include "vtm/descent/plane_sweep.hpp"
@@ -8,8 +8,8 @@ namespace vtm::descent::detail {
 // kOk for an undistorted pinhole, else kUnsupported naming the camera.
 [[nodiscard]] Status checkPinhole(const CameraModel& camera) noexcept;
 // kOk for a finite pose whose rotation is orthonormal (within 1e-6) and proper;
-// kInvalidArgument with `reason` otherwise.
-[[nodiscard]] Status checkPose(const CameraPose& pose, const char* reason) noexcept;
+// kInvalidArgument with `reason` otherwise (vtm::checkRigidPose).
+[[nodiscard]] Status checkPose(const RigidPose& pose, const char* reason) noexcept;
 // K and K^-1 of an undistorted pinhole.
 [[nodiscard]] Mat3 intrinsics(const CameraModel& camera) noexcept;
 [[nodiscard]] Mat3 inverseIntrinsics(const CameraModel& camera) noexcept;

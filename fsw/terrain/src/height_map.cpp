@@ -8,7 +8,6 @@
 namespace vtm::terrain {
 namespace {
 
-constexpr std::int32_t kMaxGridSide = 2048;
 constexpr std::uint16_t kMaxCount = 65535U;
 
 std::size_t cellCount(const GridConfig& c) noexcept {
@@ -16,64 +15,127 @@ std::size_t cellCount(const GridConfig& c) noexcept {
 }
 
 bool sameGrid(const GridConfig& a, const GridConfig& b) noexcept {
-    return a.origin_north_m == b.origin_north_m && a.origin_east_m == b.origin_east_m && a.cell_m == b.cell_m &&
+    return a.north_edge_m == b.north_edge_m && a.west_edge_m == b.west_edge_m && a.cell_m == b.cell_m &&
            a.cols == b.cols && a.rows == b.rows;
 }
 
 }  // namespace
 
 Status GridConfig::validate() const noexcept {
-    if (!math::isFinite(origin_north_m) || !math::isFinite(origin_east_m)) {
-        return Status(StatusCode::kInvalidConfig, "height map: origin_north_m and origin_east_m must be finite");
+    if (!math::isFinite(north_edge_m) || !math::isFinite(west_edge_m)) {
+        return Status(StatusCode::kInvalidConfig, "height map: grid north_edge_m and west_edge_m must be finite");
     }
-    if (!(cell_m > 0.0) || !(cell_m <= 100.0)) {
-        return Status(StatusCode::kInvalidConfig, "height map: cell_m must be in (0, 100]");
+    if (!(cell_m > 0.0) || !(cell_m <= 1.0e4)) {
+        return Status(StatusCode::kInvalidConfig, "height map: grid cell_m must be in (0, 1e4]");
     }
     if (cols < 1 || cols > kMaxGridSide) {
-        return Status(StatusCode::kInvalidConfig, "height map: cols must be 1..2048", cols);
+        return Status(StatusCode::kInvalidConfig, "height map: grid cols must be 1..4096", cols);
     }
     if (rows < 1 || rows > kMaxGridSide) {
-        return Status(StatusCode::kInvalidConfig, "height map: rows must be 1..2048", rows);
+        return Status(StatusCode::kInvalidConfig, "height map: grid rows must be 1..4096", rows);
     }
     return Status::ok();
 }
 
-std::size_t HeightMap::workspaceBytes(const GridConfig& config) noexcept {
-    const std::size_t n = config.validate().isOk() ? cellCount(config) : 0U;
-    return Arena::blockBytes(n * sizeof(float)) * 2U + Arena::blockBytes(n * sizeof(std::uint16_t));
+Status HeightMapConfig::validate() const noexcept {
+    VTM_RETURN_IF_ERROR(grid.validate());
+    if (reducer != Reducer::kHighest && reducer != Reducer::kMean && reducer != Reducer::kLowest) {
+        return Status(StatusCode::kInvalidConfig, "height map: reducer must be kHighest, kMean or kLowest",
+                      static_cast<std::int64_t>(reducer));
+    }
+    return Status::ok();
 }
 
-Status HeightMap::init(const GridConfig& config, Arena& arena) noexcept {
-    const Status valid = config.validate();
-    if (!valid.isOk()) {
-        return valid;
+std::size_t HeightMap::workspaceBytes(const HeightMapConfig& config) noexcept {
+    if (!config.validate().isOk()) {
+        return 0U;
     }
-    const std::size_t n = cellCount(config);
+    const std::size_t n = cellCount(config.grid);
+    const std::size_t floats = (config.reducer == Reducer::kMean) ? 3U : 2U;
+    return Arena::blockBytes(n * sizeof(float)) * floats + Arena::blockBytes(n * sizeof(std::uint16_t));
+}
+
+Status HeightMap::init(const HeightMapConfig& config, Arena& arena) noexcept {
+    initialized_ = false;
+    VTM_RETURN_IF_ERROR(config.validate());
+    const std::size_t n = cellCount(config.grid);
+    const bool mean = config.reducer == Reducer::kMean;
     high_ = arena.allocateArray<float>(n);
     low_ = arena.allocateArray<float>(n);
+    sum_ = mean ? arena.allocateArray<float>(n) : Span<float>();
     count_ = arena.allocateArray<std::uint16_t>(n);
-    if (high_.size() != n || low_.size() != n || count_.size() != n) {
-        initialized_ = false;
+    if (high_.size() != n || low_.size() != n || count_.size() != n || (mean && sum_.size() != n)) {
         return Status(StatusCode::kOutOfMemory, "height map: arena too small for the grid",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
-    config_ = config;
+    capacity_ = n;
+    reducer_ = config.reducer;
     initialized_ = true;
+    return setGrid(config.grid);
+}
+
+Status HeightMap::setGrid(const GridConfig& grid) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "height map: setGrid before init");
+    }
+    VTM_RETURN_IF_ERROR(grid.validate());
+    const std::size_t n = cellCount(grid);
+    if (n > capacity_) {
+        return Status(StatusCode::kSizeMismatch, "height map: grid cols * rows exceeds the capacity (init grid)",
+                      static_cast<std::int64_t>(n));
+    }
+    grid_ = grid;
+    cells_ = n;
+    south_edge_m_ = grid.north_edge_m - static_cast<double>(grid.rows) * grid.cell_m;
     clear();
     return Status::ok();
 }
 
 void HeightMap::clear() noexcept {
-    for (std::size_t i = 0; i < count_.size(); ++i) {
+    for (std::size_t i = 0; i < cells_; ++i) {
         high_[i] = kNoData;
         low_[i] = kNoData;
         count_[i] = 0U;
     }
+    for (std::size_t i = 0; i < cells_ && i < sum_.size(); ++i) {
+        sum_[i] = 0.0F;
+    }
 }
 
 std::size_t HeightMap::index(std::int32_t col, std::int32_t row) const noexcept {
-    VTM_ASSERT(initialized_ && col >= 0 && col < config_.cols && row >= 0 && row < config_.rows, col, row);
-    return static_cast<std::size_t>(row) * static_cast<std::size_t>(config_.cols) + static_cast<std::size_t>(col);
+    VTM_ASSERT(initialized_ && col >= 0 && col < grid_.cols && row >= 0 && row < grid_.rows, col, row);
+    return static_cast<std::size_t>(row) * static_cast<std::size_t>(grid_.cols) + static_cast<std::size_t>(col);
+}
+
+void HeightMap::bin(double north_m, double east_m, double down_m, HeightMapStats& stats) noexcept {
+    // floor of the cell coordinate; the range check is done in double so that a far point
+    // cannot overflow the integer conversion. Rows are counted from the south edge here.
+    const double fc = std::floor((east_m - grid_.west_edge_m) / grid_.cell_m);
+    const double fs = std::floor((north_m - south_edge_m_) / grid_.cell_m);
+    const bool inside = fc >= 0.0 && fc < static_cast<double>(grid_.cols) && fs >= 0.0 &&
+                        fs < static_cast<double>(grid_.rows) && math::isFinite(down_m);
+    if (!inside) {
+        ++stats.outside;
+        return;
+    }
+    const std::int32_t row = grid_.rows - 1 - static_cast<std::int32_t>(fs);
+    const std::size_t k = index(static_cast<std::int32_t>(fc), row);
+    const auto up = static_cast<float>(-down_m);
+    const std::uint16_t n = count_[k];
+    if (n == 0U) {
+        high_[k] = up;
+        low_[k] = up;
+    } else {
+        high_[k] = (up > high_[k]) ? up : high_[k];
+        low_[k] = (up < low_[k]) ? up : low_[k];
+    }
+    if (n < kMaxCount) {  // a saturated cell keeps the mean of its first 65535 points
+        if (!sum_.empty()) {
+            sum_[k] += up;
+        }
+        count_[k] = static_cast<std::uint16_t>(n + 1U);
+    }
+    ++stats.added;
 }
 
 Status HeightMap::add(Span<const TerrainPoint> points, HeightMapStats* stats) noexcept {
@@ -83,27 +145,36 @@ Status HeightMap::add(Span<const TerrainPoint> points, HeightMapStats* stats) no
     HeightMapStats local;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const TerrainPoint& p = points[i];
-        // floor of the cell coordinate; the range check is done in double so that a far
-        // point cannot overflow the integer conversion.
-        const double fc = std::floor((static_cast<double>(p.y_m) - config_.origin_east_m) / config_.cell_m);
-        const double fr = std::floor((static_cast<double>(p.x_m) - config_.origin_north_m) / config_.cell_m);
-        const bool inside = fc >= 0.0 && fc < static_cast<double>(config_.cols) && fr >= 0.0 &&
-                            fr < static_cast<double>(config_.rows) && math::isFinite(static_cast<double>(p.z_m));
-        if (!inside) {
-            ++local.outside;
-            continue;
-        }
-        const std::size_t k = index(static_cast<std::int32_t>(fc), static_cast<std::int32_t>(fr));
-        const float up = -p.z_m;
-        if (count_[k] == 0U) {
-            high_[k] = up;
-            low_[k] = up;
-        } else {
-            high_[k] = (up > high_[k]) ? up : high_[k];
-            low_[k] = (up < low_[k]) ? up : low_[k];
-        }
-        count_[k] = (count_[k] < kMaxCount) ? static_cast<std::uint16_t>(count_[k] + 1U) : kMaxCount;
-        ++local.added;
+        bin(static_cast<double>(p.x_m), static_cast<double>(p.y_m), static_cast<double>(p.z_m), local);
+    }
+    if (stats != nullptr) {
+        stats->added += local.added;
+        stats->outside += local.outside;
+    }
+    return Status::ok();
+}
+
+Status HeightMap::add(const Vec3& site_m, HeightMapStats* stats) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "height map: add before init");
+    }
+    HeightMapStats local;
+    bin(site_m.x(), site_m.y(), site_m.z(), local);
+    if (stats != nullptr) {
+        stats->added += local.added;
+        stats->outside += local.outside;
+    }
+    return Status::ok();
+}
+
+Status HeightMap::add(Span<const Vec3> sites_m, HeightMapStats* stats) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "height map: add before init");
+    }
+    HeightMapStats local;
+    for (std::size_t i = 0; i < sites_m.size(); ++i) {
+        const Vec3& p = sites_m[i];
+        bin(p.x(), p.y(), p.z(), local);
     }
     if (stats != nullptr) {
         stats->added += local.added;
@@ -116,10 +187,10 @@ Status HeightMap::merge(const HeightMap& other) noexcept {
     if (!initialized_ || !other.initialized_) {
         return Status(StatusCode::kNotInitialized, "height map: merge with a map before init");
     }
-    if (!sameGrid(config_, other.config_)) {
-        return Status(StatusCode::kSizeMismatch, "height map: merge of maps on different grids");
+    if (!sameGrid(grid_, other.grid_) || reducer_ != other.reducer_) {
+        return Status(StatusCode::kSizeMismatch, "height map: merge of maps on different grids or reducers");
     }
-    for (std::size_t k = 0; k < count_.size(); ++k) {
+    for (std::size_t k = 0; k < cells_; ++k) {
         const std::uint16_t n = other.count_[k];
         if (n == 0U) {
             continue;
@@ -131,14 +202,39 @@ Status HeightMap::merge(const HeightMap& other) noexcept {
             high_[k] = (other.high_[k] > high_[k]) ? other.high_[k] : high_[k];
             low_[k] = (other.low_[k] < low_[k]) ? other.low_[k] : low_[k];
         }
-        const std::uint32_t sum = static_cast<std::uint32_t>(count_[k]) + n;
-        count_[k] = (sum < kMaxCount) ? static_cast<std::uint16_t>(sum) : kMaxCount;
+        const std::uint32_t total = static_cast<std::uint32_t>(count_[k]) + n;
+        if (!sum_.empty()) {
+            const float sum = sum_[k] + other.sum_[k];
+            sum_[k] = (total <= kMaxCount) ? sum : (sum / static_cast<float>(total)) * static_cast<float>(kMaxCount);
+        }
+        count_[k] = (total < kMaxCount) ? static_cast<std::uint16_t>(total) : kMaxCount;
     }
     return Status::ok();
 }
 
-float HeightMap::highest(std::int32_t col, std::int32_t row) const noexcept { return high_[index(col, row)]; }
-float HeightMap::lowest(std::int32_t col, std::int32_t row) const noexcept { return low_[index(col, row)]; }
+float HeightMap::elevation(std::int32_t col, std::int32_t row) const noexcept {
+    const std::size_t k = index(col, row);
+    if (count_[k] == 0U) {
+        return kNoData;
+    }
+    switch (reducer_) {
+        case Reducer::kHighest: return high_[k];
+        case Reducer::kLowest: return low_[k];
+        case Reducer::kMean: return sum_[k] / static_cast<float>(count_[k]);
+    }
+    return kNoData;
+}
+
+float HeightMap::highest(std::int32_t col, std::int32_t row) const noexcept {
+    const std::size_t k = index(col, row);
+    return (count_[k] == 0U) ? kNoData : high_[k];
+}
+
+float HeightMap::lowest(std::int32_t col, std::int32_t row) const noexcept {
+    const std::size_t k = index(col, row);
+    return (count_[k] == 0U) ? kNoData : low_[k];
+}
+
 std::uint16_t HeightMap::count(std::int32_t col, std::int32_t row) const noexcept { return count_[index(col, row)]; }
 
 float HeightMap::spread(std::int32_t col, std::int32_t row) const noexcept {
@@ -146,9 +242,17 @@ float HeightMap::spread(std::int32_t col, std::int32_t row) const noexcept {
     return (count_[k] == 0U) ? kNoData : high_[k] - low_[k];
 }
 
+double HeightMap::centreNorthM(std::int32_t row) const noexcept {
+    return grid_.north_edge_m - (static_cast<double>(row) + 0.5) * grid_.cell_m;
+}
+
+double HeightMap::centreEastM(std::int32_t col) const noexcept {
+    return grid_.west_edge_m + (static_cast<double>(col) + 0.5) * grid_.cell_m;
+}
+
 std::int32_t HeightMap::filledCells() const noexcept {
     std::int32_t n = 0;
-    for (std::size_t k = 0; k < count_.size(); ++k) {
+    for (std::size_t k = 0; k < cells_; ++k) {
         n += (count_[k] != 0U) ? 1 : 0;
     }
     return n;

@@ -11,6 +11,15 @@
 
 namespace vtm::ground {
 
+FloatImage elevationImage(const terrain::HeightMap& map) {
+    const terrain::GridConfig& g = map.grid();
+    FloatImage out(g.cols, g.rows);
+    for (std::int32_t row = 0; row < g.rows; ++row) {
+        for (std::int32_t col = 0; col < g.cols; ++col) out.at(col, row) = map.elevation(col, row);
+    }
+    return out;
+}
+
 FloatImage cropToFinite(const FloatImage& g) {
     std::int32_t x0 = g.width, y0 = g.height, x1 = -1, y1 = -1;
     for (std::int32_t y = 0; y < g.height; ++y) {

@@ -15,7 +15,8 @@
 //             rotation and translation direction; the baseline length stays the
 //             odometry's); camera 2's pose is replaced by the refined one
 //   sweep     descent::PlaneSweep: depth of every pixel of image 1 (or a reason)
-//   grid      descent::elevationGrid on a fixed grid centred under camera 1
+//   grid      terrain::HeightMap (grid_reducer: the mean by default) on a grid of
+//             grid_cells^2 centred under camera 1: descent::addDepthToHeightMap
 // Every stage leaves a StageRecord (Status, quality figure, time from hal::Clock) in
 // stages() and one event in hal::EventLog. The first stage that fails ends the request
 // with its Status (stages().failed() names the stage) and nothing is published:
@@ -41,6 +42,7 @@
 #include "vtm/descent/plane_sweep.hpp"
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
+#include "vtm/terrain/height_map.hpp"
 
 namespace vtm::app {
 
@@ -85,6 +87,9 @@ struct DescentMapperConfig {
     // Grid cell, metres: > 0, or 0 for two image-1 pixels at camera 1's height (2 h / fx:
     // with one pixel per cell the pixels' footprints leave empty seams between cells).
     double grid_cell_m = 0.0;
+    // How a cell's points become its elevation. The mean: a descent cell holds the points
+    // of a few pixels of one surface, and their mean averages the depth noise.
+    terrain::Reducer grid_reducer = terrain::Reducer::kMean;
 
     // kOk, or kInvalidConfig naming the field (the sweep's own fields as
     // descent::Config::validate names them, prefixed by nothing).
@@ -95,11 +100,11 @@ struct DescentMapperConfig {
 struct DescentProducts {
     ImageView<const float> depth_m;          // image 1's size, along camera 1's axis; NaN = NO_DATA
     ImageView<const std::uint8_t> reason;    // descent::Reason per pixel of image 1
-    ImageView<const float> elevation_m;      // grid_cells^2, -z metres, row 0 north; NaN = NO_DATA
-    ImageView<const std::uint16_t> count;    // points per cell (0 = NO_DATA)
+    // The elevation map: grid_cells^2 cells centred under camera 1 (terrain::HeightMap's
+    // convention: row 0 north, column 0 west; kNoData, a NaN, where no point fell).
+    const terrain::HeightMap* height_map = nullptr;
     ImageView<const std::uint16_t> image1;   // the frames the map came from
     ImageView<const std::uint16_t> image2;
-    descent::GridSpec grid{};
     descent::PairGeometry geometry{};        // camera model and the two camera poses used
     hal::FrameInfo frame1{};
     hal::FrameInfo frame2{};
@@ -178,8 +183,7 @@ private:
     ImageView<std::uint16_t> image2_{};
     ImageView<float> depth_{};
     ImageView<std::uint8_t> reason_{};
-    ImageView<float> elevation_{};
-    ImageView<std::uint16_t> count_{};
+    terrain::HeightMap map_{};
     hal::PoseEstimate pose1_{};
     hal::PoseEstimate pose2_{};
     DescentProducts products_{};

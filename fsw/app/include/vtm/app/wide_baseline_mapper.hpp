@@ -24,7 +24,8 @@
 //                disparities whose ray the ground bound puts beyond the window are dropped
 //                (relief_below_m)
 //   triangulate  every disparity to a site point with its range sigma (fsw/terrain)
-//   grid         terrain::HeightMap on the configured site grid (highest point per cell)
+//   grid         terrain::HeightMap on the configured site grid (height_map: the highest
+//                point per cell by default)
 // Every stage leaves a StageRecord (Status, quality figure, time from hal::Clock) in
 // stages() and one event in hal::EventLog (stage_log.hpp). The first stage that fails
 // ends the request with its Status and nothing is published: products() is nullptr until
@@ -92,18 +93,20 @@ struct WideBaselineMapperConfig {
     // with the image area) are dropped. Isolated wrong disparities on far rays put points
     // high over the ground, and a height-map cell keeps its highest point (docs/app.md).
     stereo::SpeckleConfig speckle{};
-    // The site grid of the height map (origin, cell, size; terrain::GridConfig). Every
-    // request maps into the same grid, so successive maps merge (terrain::HeightMap::merge).
-    terrain::GridConfig grid = defaultGrid();
+    // The height map: its site grid (north-west corner, cell, size; terrain::GridConfig)
+    // and reducer (the highest point per cell, paper §6). Every request maps into the same
+    // grid, so successive maps merge (terrain::HeightMap::merge).
+    terrain::HeightMapConfig height_map = defaultHeightMap();
 
-    [[nodiscard]] static terrain::GridConfig defaultGrid() noexcept {
-        terrain::GridConfig g;
-        g.cell_m = 0.25;
-        g.cols = 512;
-        g.rows = 512;
-        g.origin_north_m = -64.0;  // 128 m x 128 m centred on the site origin
-        g.origin_east_m = -64.0;
-        return g;
+    [[nodiscard]] static terrain::HeightMapConfig defaultHeightMap() noexcept {
+        terrain::HeightMapConfig m;
+        m.grid.cell_m = 0.25;
+        m.grid.cols = 512;
+        m.grid.rows = 512;
+        m.grid.north_edge_m = 64.0;  // 128 m x 128 m centred on the site origin
+        m.grid.west_edge_m = -64.0;
+        m.reducer = terrain::Reducer::kHighest;
+        return m;
     }
     // kOk, or kInvalidConfig naming the field (sub-configurations as their validate()
     // names them).

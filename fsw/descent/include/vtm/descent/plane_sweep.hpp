@@ -29,8 +29,10 @@
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/core/image.hpp"
+#include "vtm/core/pose.hpp"
 #include "vtm/core/span.hpp"
 #include "vtm/core/status.hpp"
+#include "vtm/terrain/height_map.hpp"
 
 namespace vtm::descent {
 
@@ -81,20 +83,15 @@ struct Config {
     [[nodiscard]] Status validate() const noexcept;
 };
 
-// Where each camera was: its reference (optical) frame in the site frame
-// (x north, y east, z down): p_site = R_site_from_cam * p_cam + position_site_m.
-struct CameraPose {
-    Mat3 R_site_from_cam = Mat3::Identity();
-    Vec3 position_site_m = Vec3::Zero();
-};
-
-// The pair's geometry: one camera (both images) and the two poses.
+// The pair's geometry: one camera (both images) and where it was for each image: its
+// reference (optical) frame in the site frame (x north, y east, z down) as
+// vtm::RigidPose site_from_cam (vtm/core/pose.hpp): p_site = R p_cam + t_m.
 struct PairGeometry {
     // An undistorted pinhole (kPinholeBrown, k1 = k2 = k3 = p1 = p2 = 0) whose size is the
     // images' size. Distorted and CAHV(OR) models are kUnsupported: undistort first.
     CameraModel camera{};
-    CameraPose pose1{};  // image 1 (reference, earlier and higher)
-    CameraPose pose2{};  // image 2 (later, closer)
+    RigidPose site_from_cam1{};  // image 1 (reference, earlier and higher)
+    RigidPose site_from_cam2{};  // image 2 (later, closer)
 };
 
 // Caller-provided outputs, image 1's size (score and reason may be empty views).
@@ -114,7 +111,7 @@ struct SweepStats {
 };
 
 // kOk for a camera the sweep accepts (an undistorted, valid pinhole); kUnsupported or
-// kInvalidArgument naming what is wrong. compute() and elevationGrid() check the same;
+// kInvalidArgument naming what is wrong. compute() and addDepthToHeightMap() check the same;
 // an executive checks it once when it learns its camera.
 [[nodiscard]] Status checkCamera(const CameraModel& camera) noexcept;
 
@@ -192,27 +189,18 @@ private:
     Span<std::int16_t> bestIndex_{};   // -1: none yet
 };
 
-// ---- Elevation grid --------------------------------------------------------------------
+// ---- Depth to the height map ------------------------------------------------------------
 
-// A site-frame grid: cell (col, row) covers north in (origin_north_m - (row + 1) cell_m,
-// origin_north_m - row cell_m] and east in [origin_east_m + col cell_m, ... + (col + 1) cell_m)
-// — row 0 is the northern edge, so the grid displays north up, east right.
-struct GridSpec {
-    double origin_north_m = 0.0;  // north edge
-    double origin_east_m = 0.0;   // west edge
-    double cell_m = 1.0;          // > 0
-};
-
-// Elevation (-z, metres) of every valid depth pixel, binned into the grid: each cell holds
-// the MEAN elevation of the points that fall in it (count_out: how many; 0 = NO_DATA,
-// elevation NaN). Pixels with NaN depth are skipped; points outside the grid are counted
-// in *outside (may be null). elevation_out and count_out: same size. Errors:
-// kInvalidArgument (empty views, cell_m <= 0 or not finite, bad pose), kUnsupported
-// (camera not an undistorted pinhole), kSizeMismatch (depth size != camera size, grid
-// views of different sizes). Never allocates.
-[[nodiscard]] Status elevationGrid(const ImageView<const float>& depth_m, const CameraModel& camera,
-                                   const CameraPose& pose, const GridSpec& grid,
-                                   const ImageView<float>& elevation_out, const ImageView<std::uint16_t>& count_out,
-                                   std::int64_t* outside = nullptr) noexcept;
+// The descent's side of the elevation product: every valid depth pixel of camera 1
+// becomes its site point, X_site = R (K^-1 (x, y, 1) depth) + t_m with site_from_cam, and
+// is added to `map` (terrain::HeightMap: its grid and reducer decide the cells and their
+// elevation; docs/terrain.md has the convention). The map is not cleared first. Pixels
+// with NaN depth are skipped; points outside the grid are counted in stats->outside (stats
+// may be null). Errors: kInvalidArgument (empty view, bad pose), kUnsupported (camera not
+// an undistorted pinhole), kSizeMismatch (depth size != camera size), the map's
+// kNotInitialized. Never allocates.
+[[nodiscard]] Status addDepthToHeightMap(const ImageView<const float>& depth_m, const CameraModel& camera,
+                                         const RigidPose& site_from_cam, terrain::HeightMap& map,
+                                         terrain::HeightMapStats* stats = nullptr) noexcept;
 
 }  // namespace vtm::descent

@@ -7,8 +7,14 @@
 
 #include "vtm/core/eigen.hpp"
 #include "vtm/ground/image.hpp"
+#include "vtm/terrain/height_map.hpp"
 
 namespace vtm::ground {
+
+// The height map's elevations (HeightMap::elevation: its reducer's) as an image in the
+// map's own convention, cell (col, row) at pixel (col, row): row 0 north, column 0 west,
+// NaN (kNoData) where no point fell. Written to PFM or PNG as it is: north up.
+FloatImage elevationImage(const terrain::HeightMap& map);
 
 // RGB shaded relief of an elevation grid (metres, NaN = NO_DATA, row 0 north): colour by
 // elevation (the disparity ramp: highest red ... lowest purple, between the 1st and 99th
