@@ -20,7 +20,6 @@
 #include "vtm/ground/image_io.hpp"
 #include "vtm/ground/sim_output.hpp"
 #include "vtm/motion/motion_refiner.hpp"
-#include "vtm/rectify/linear_camera.hpp"
 #include "vtm/rectify/rectifier.hpp"
 
 namespace vtm::tools {
@@ -429,11 +428,9 @@ std::string runRectifier(const PairInputs& in, RectifyRun& run) {
 void rectifiedPoses(const PairInputs& in, const RectifyRun& run, SimCameraPose& p1, SimCameraPose& p2) {
     const Mat3 R1 = rotationOf(in.pose1);
     const Mat3 R_site_from_rect = R1 * run.pair.R_rect_from_a.transpose();
-    // Camera 1's projection centre in its reference frame: the rectified frame's origin is
-    // there (models with C != 0 keep it: centre = R_rect_from_a (c_a - c_a) = 0).
-    rectify::LinearCamera lin;
-    const Vec3 c1_ref = rectify::linearizeCamera(in.model1, lin).isOk() ? lin.centre_ref_m : Vec3::Zero();
-    const Vec3 c1_site = positionOf(in.pose1) + R1 * c1_ref;
+    // Camera 1's projection centre in its reference frame, as the rectifier published it:
+    // the rectified frame's origin is there (models with C != 0 keep it).
+    const Vec3 c1_site = positionOf(in.pose1) + R1 * run.pair.centre_a_ref_m;
     p1 = in.pose1;
     p2 = in.pose2;
     setPose(p1, R_site_from_rect, c1_site);
