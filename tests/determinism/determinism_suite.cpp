@@ -13,7 +13,9 @@
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
+#include "vtm/stereo/disparity_window.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/terrain/ground_bound.hpp"
 #include "vtm/terrain/height_map.hpp"
 #include "vtm/terrain/triangulation.hpp"
 
@@ -220,6 +222,17 @@ std::uint64_t stereoSection() noexcept {
     for (std::int32_t i = 0; i < kSw * kSh; ++i) {
         h.addI64(disparity[i]);
         h.addDouble(static_cast<double>(sigma[i]));
+        h.addI64(reason[i]);
+    }
+    // The same pair with the window moved (setDisparityWindow: the right image moved
+    // inside the workspace, black where it has no pixel).
+    h.addI64(static_cast<std::int64_t>(matcher.setDisparityWindow(3).code()));
+    h.addI64(static_cast<std::int64_t>(matcher
+                                           .compute(ImageView<const std::uint8_t>(left, kSw, kSh),
+                                                    ImageView<const std::uint8_t>(right, kSw, kSh), out)
+                                           .code()));
+    for (std::int32_t i = 0; i < kSw * kSh; ++i) {
+        h.addI64(disparity[i]);
         h.addI64(reason[i]);
     }
     return h.value();
@@ -454,6 +467,31 @@ void hashTerrain(Hasher& h) noexcept {
         for (std::int32_t x = 0; x < 64; ++x) {
             disparity[y * 64 + x] = static_cast<std::int16_t>(16 * 12 + 7 * y + (x % 5));
         }
+    }
+    // The window placement on samples spread over the disparities, and the ground bound.
+    static double samples[40];
+    for (std::int32_t i = 0; i < 40; ++i) {
+        samples[i] = 11.0 + 0.37 * static_cast<double>((i * 17) % 40);
+    }
+    stereo::DisparityWindow window;
+    h.addI64(static_cast<std::int64_t>(stereo::placeDisparityWindow(Span<double>(samples, 40), 8, 0, 100, window).code()));
+    h.addI64(window.d_min);
+    h.addI64(window.samples_inside);
+    terrain::RectifiedGeometry tilted = g;  // looking north, 20 deg down, 1.9 m up
+    const double tilt = 20.0 * math::kPi / 180.0;
+    tilted.R_site_from_rect.col(0) = Vec3(0.0, 1.0, 0.0);
+    tilted.R_site_from_rect.col(2) = Vec3(math::cos(tilt), 0.0, math::sin(tilt));
+    tilted.R_site_from_rect.col(1) = tilted.R_site_from_rect.col(2).cross(tilted.R_site_from_rect.col(0));
+    tilted.left_centre_site_m = Vec3(0.3, -0.2, -1.9);
+    static std::int16_t bounded[64 * 48];
+    std::memcpy(bounded, disparity, sizeof bounded);
+    std::int32_t dropped = 0;
+    h.addI64(static_cast<std::int64_t>(terrain::boundByGround(tilted, 1.0, window.d_min, window.d_max,
+                                                              ImageView<std::int16_t>(bounded, 64, 48), dropped)
+                                           .code()));
+    h.addI64(dropped);
+    for (const std::int16_t d : bounded) {
+        h.addI64(d);
     }
     static terrain::TerrainPoint points[64 * 48];
     terrain::TriangulationStats stats;

@@ -401,6 +401,46 @@ TEST(Rectifier, ImageCentresMapToRectifiedCentres) {
     EXPECT_LT(pair.d_min, 0);
 }
 
+// The pair publishes A's projection centre in A's reference frame (the rectified frame's
+// origin): what linearizeCamera gives, bit for bit, and the true centre; a point of A's
+// frame lands, through it and R_rect_from_a, on the rectified pixel that the point map
+// gives for its image in A.
+TEST(Rectifier, PublishesCameraACentreInItsReferenceFrame) {
+    for (Kind kind : {Kind::kBrown, Kind::kCahvor}) {
+        Scene s = makeScene(kind, 1.5, 10.0, 1.0);
+        // CAHVOR: camera A moved inside its reference frame, so that its centre is not the
+        // frame's origin (B and both frames stay: b_from_a is unchanged).
+        const Vec3 c_true = kind == Kind::kBrown ? Vec3::Zero() : Vec3(0.3, -0.2, 0.1);
+        if (kind == Kind::kCahvor) {
+            put(s.a.c, c_true);
+            s.input.model_a = &s.a;
+            s.input.model_b = &s.b;
+        }
+        Harness h(smallConfig(2.0, 100.0));
+        RectifiedPair pair;
+        ASSERT_TRUE(h.rect.compute(s.input, pair).isOk());
+        LinearCamera lin;
+        ASSERT_TRUE(linearizeCamera(s.a, lin).isOk());
+        EXPECT_TRUE(pair.centre_a_ref_m == lin.centre_ref_m);  // bit for bit
+        EXPECT_LE((pair.centre_a_ref_m - c_true).cwiseAbs().maxCoeff(), 1e-15);
+        std::int32_t tested = 0;
+        for (int i = 0; i < 20; ++i) {
+            const Vec3 dir(0.04 * (i % 5) - 0.08, 0.03 * (i / 5) - 0.05, 1.0);
+            const Vec3 x_a = c_true + (kind == Kind::kBrown ? dir : Vec3(s.R_a_w.transpose() * dir)) * (3.0 + i);
+            Vec2 pa;
+            Vec2 ra;
+            if (!projectPoint(s.a, x_a, pa).isOk() || !h.rect.rectifyPixel(Rectifier::Side::kA, pa, ra).isOk()) {
+                continue;
+            }
+            const Vec3 x_rect = pair.R_rect_from_a * (x_a - pair.centre_a_ref_m);
+            EXPECT_NEAR(pair.model_a.fx_px * x_rect.x() / x_rect.z() + pair.model_a.cx_px, ra.x(), 1e-6);
+            EXPECT_NEAR(pair.model_a.fy_px * x_rect.y() / x_rect.z() + pair.model_a.cy_px, ra.y(), 1e-6);
+            ++tested;
+        }
+        EXPECT_GT(tested, 15);
+    }
+}
+
 TEST(Rectifier, UnrectifyThenRectifyIsIdentity) {
     for (Kind kind : {Kind::kBrown, Kind::kCahvor}) {
         const Scene s = makeScene(kind, 2.0, 15.0, -1.0);

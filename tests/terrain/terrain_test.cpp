@@ -10,7 +10,11 @@
 
 #include "no_heap_guard.hpp"
 #include "vtm/core/random.hpp"
+#include "vtm/rectify/linear_camera.hpp"
+#include "vtm/rectify/rectifier.hpp"
+#include "vtm/terrain/ground_bound.hpp"
 #include "vtm/terrain/height_map.hpp"
+#include "vtm/terrain/rectified_geometry.hpp"
 #include "vtm/terrain/triangulation.hpp"
 
 namespace vtm::terrain {
@@ -137,6 +141,256 @@ struct MapFixture {
     HeightMap map;
     Status status;
 };
+
+// ---- ground bound -------------------------------------------------------------------
+
+// The depth at which pixel (x, y)'s ray meets the level plane z = plane_z, found
+// independently of boundByGround: the ray's site direction, then the plane equation.
+// false when the ray never reaches the plane (level or up, or the centre below it).
+bool planeDepth(const RectifiedGeometry& g, double plane_z, std::int32_t x, std::int32_t y, double& depth) {
+    const Vec3 ray_rect((x - g.cx_left_px) / g.fx_px, (y - g.cy_px) / g.fy_px, 1.0);  // depth 1
+    const Vec3 ray_site = g.R_site_from_rect * ray_rect;
+    const double drop = plane_z - g.left_centre_site_m.z();  // how far down the plane is
+    if (!(ray_site.z() > 1e-9) || !(drop > 0.0)) {
+        return false;
+    }
+    depth = drop / ray_site.z();
+    return true;
+}
+
+TEST(GroundBound, DropsExactlyTheDisparitiesTheLevelPlaneBoundsBeyondTheWindow) {
+    constexpr std::int32_t kBw = 640;
+    constexpr std::int32_t kBh = 480;
+    static std::int16_t disparity[kBw * kBh];
+    for (const double baseline : {0.8, -0.8}) {
+        const RectifiedGeometry g = testGeometry(baseline);  // 1.9 m up, 20 deg down
+        const double plane_z = 0.0;                          // 1.9 m under the camera
+        // The window: positive disparities for b > 0, negative for b < 0 (cx offset 40.25 px);
+        // the bound falls about halfway down the image.
+        const std::int32_t lo = baseline > 0.0 ? 100 : -80;
+        const std::int32_t hi = lo + 63;
+        std::int32_t expected = 0;
+        std::int32_t checked_near = 0;
+        for (std::int32_t y = 0; y < kBh; ++y) {
+            for (std::int32_t x = 0; x < kBw; ++x) {
+                // Every 7th pixel has no disparity; the others some value in the window.
+                const bool none = (x + 3 * y) % 7 == 0;
+                disparity[y * kBw + x] = none ? kNoDisparity : static_cast<std::int16_t>((lo + 5) * 16);
+                double depth = 0.0;
+                if (none || !planeDepth(g, plane_z, x, y, depth)) {
+                    continue;
+                }
+                // The terrain is no farther than the plane along this ray: its disparity is
+                // at least (b > 0; at most for b < 0) the plane's.
+                const double d_plane = g.fx_px * g.baseline_m / depth + (g.cx_left_px - g.cx_right_px);
+                const bool beyond = baseline > 0.0 ? d_plane > hi + 1.0 : d_plane < lo - 1.0;
+                const double margin = baseline > 0.0 ? d_plane - (hi + 1.0) : (lo - 1.0) - d_plane;
+                checked_near += std::fabs(margin) < 1e-6 ? 1 : 0;
+                expected += beyond ? 1 : 0;
+            }
+        }
+        ASSERT_EQ(checked_near, 0) << "no pixel may sit on the threshold (rounding)";
+        ASSERT_GT(expected, 1000);  // the test sees the bound at work
+        ASSERT_LT(expected, 3 * kBw * kBh / 4);
+        std::int32_t dropped = -1;
+        NoHeapScope guard;
+        ASSERT_TRUE(boundByGround(g, plane_z, lo, hi, ImageView<std::int16_t>(disparity, kBw, kBh), dropped).isOk());
+        EXPECT_EQ(guard.heapCalls(), 0U);
+        EXPECT_EQ(dropped, expected);
+        // Pixel by pixel: dropped ones are exactly those beyond; the others kept unchanged.
+        std::int32_t mismatches = 0;
+        for (std::int32_t y = 0; y < kBh; ++y) {
+            for (std::int32_t x = 0; x < kBw; ++x) {
+                const bool none = (x + 3 * y) % 7 == 0;
+                double depth = 0.0;
+                bool beyond = false;
+                if (!none && planeDepth(g, plane_z, x, y, depth)) {
+                    const double d_plane = g.fx_px * g.baseline_m / depth + (g.cx_left_px - g.cx_right_px);
+                    beyond = baseline > 0.0 ? d_plane > hi + 1.0 : d_plane < lo - 1.0;
+                }
+                const std::int16_t want = (none || beyond) ? kNoDisparity : static_cast<std::int16_t>((lo + 5) * 16);
+                mismatches += disparity[y * kBw + x] == want ? 0 : 1;
+            }
+        }
+        EXPECT_EQ(mismatches, 0) << "baseline " << baseline;
+    }
+}
+
+TEST(GroundBound, APlaneAboveTheCameraOrRaysThatNeverReachItBoundNothing) {
+    constexpr std::int32_t kBw = 64;
+    constexpr std::int32_t kBh = 48;
+    static std::int16_t disparity[kBw * kBh];
+    RectifiedGeometry g = testGeometry(0.5);
+    g.fx_px = 80.0;
+    g.fy_px = 80.0;
+    g.cx_left_px = 32.0;
+    g.cx_right_px = 32.0;
+    g.cy_px = 24.0;
+    for (std::int16_t& d : disparity) {
+        d = 16;
+    }
+    std::int32_t dropped = -1;
+    // The plane 1 m above the camera (site z down): no ray meets it going down.
+    ASSERT_TRUE(boundByGround(g, g.left_centre_site_m.z() - 1.0, 0, 1, ImageView<std::int16_t>(disparity, kBw, kBh),
+                              dropped)
+                    .isOk());
+    EXPECT_EQ(dropped, 0);
+    // A level camera (rect +z = north): rows above the centre row look up or level, never
+    // bounded; rows below are, and a window far beyond every bound keeps them all.
+    g.R_site_from_rect << 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0;  // rect x east, y down, z north
+    ASSERT_TRUE(g.validate().isOk());
+    ASSERT_TRUE(boundByGround(g, g.left_centre_site_m.z() + 2.0, 0, 10000,
+                              ImageView<std::int16_t>(disparity, kBw, kBh), dropped)
+                    .isOk());
+    EXPECT_EQ(dropped, 0);
+    // The window [0, 1]: a row y below the centre meets the plane 2 m down at depth
+    // 2 fy / (y - cy), disparity fx b (y - cy) / (2 fy) = (y - 24) / 4 > 2 for y > 32.
+    ASSERT_TRUE(boundByGround(g, g.left_centre_site_m.z() + 2.0, 0, 1, ImageView<std::int16_t>(disparity, kBw, kBh),
+                              dropped)
+                    .isOk());
+    EXPECT_EQ(dropped, (kBh - 33) * kBw);
+    for (std::int32_t y = 0; y < kBh; ++y) {
+        EXPECT_EQ(disparity[y * kBw], y > 32 ? kNoDisparity : 16) << y;
+    }
+}
+
+TEST(GroundBound, BadInputsAreNamedAndChangeNothing) {
+    static std::int16_t disparity[16 * 16];
+    for (std::int16_t& d : disparity) {
+        d = 100;
+    }
+    const ImageView<std::int16_t> view(disparity, 16, 16);
+    std::int32_t dropped = -1;
+    RectifiedGeometry bad = testGeometry(0.5);
+    bad.baseline_m = 0.0;
+    EXPECT_EQ(boundByGround(bad, 3.0, 0, 10, view, dropped).code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(dropped, 0);
+    const RectifiedGeometry g = testGeometry(0.5);
+    EXPECT_STREQ(boundByGround(g, std::nan(""), 0, 10, view, dropped).reason(),
+                 "boundByGround: plane_z_site_m is not finite");
+    EXPECT_STREQ(boundByGround(g, 3.0, 10, 0, view, dropped).reason(),
+                 "boundByGround: window_min_px is above window_max_px");
+    EXPECT_STREQ(boundByGround(g, 3.0, 0, 10, ImageView<std::int16_t>(), dropped).reason(),
+                 "boundByGround: disparity_px16 is empty");
+    for (const std::int16_t d : disparity) {
+        ASSERT_EQ(d, 100);
+    }
+}
+
+// ---- the rectified pair in the site frame ---------------------------------------------
+
+// A CAHV camera with optical frame R (rows, in its reference frame), centre c, pinhole
+// intrinsics f, cx, cy.
+CameraModel cahv(const Mat3& R, const Vec3& c, double f, double cx, double cy) {
+    CameraModel m;
+    m.kind = CameraModelKind::kCahv;
+    m.width_px = 320;
+    m.height_px = 240;
+    const Vec3 a = R.row(2).transpose();
+    const Vec3 h = f * R.row(0).transpose() + cx * a;
+    const Vec3 v = f * R.row(1).transpose() + cy * a;
+    for (int i = 0; i < 3; ++i) {
+        m.c[i] = c[i];
+        m.a[i] = a[i];
+        m.h[i] = h[i];
+        m.v[i] = v[i];
+    }
+    return m;
+}
+
+TEST(RectifiedGeometryOf, SitePointsComeBackThroughTheRectifiedPairOfCahvCameras) {
+    // Camera A: a CAHV model with its centre at C != 0 in its reference frame; camera B:
+    // the same camera 1.5 m to A's right, its model in a reference frame of its own
+    // (X_b = R_b_from_a X_a + t, R a 2.9 deg turn), where its centre is again c_a.
+    const Mat3 R_opt = (Eigen::AngleAxisd(0.35, Vec3(1.0, 0.0, 0.0)) *
+                        Eigen::AngleAxisd(0.2, Vec3(0.0, 1.0, 0.0))).toRotationMatrix();
+    const Vec3 c_a(0.4, -0.2, 1.1);
+    const CameraModel a = cahv(R_opt, c_a, 300.0, 160.0, 120.0);
+    const Mat3 R_b_from_a = Eigen::AngleAxisd(0.05, Vec3(0.1, 1.0, 0.0).normalized()).toRotationMatrix();
+    const Vec3 c_b_in_a = c_a + R_opt.transpose() * Vec3(1.5, 0.02, 0.01);
+    const Vec3 t_b_from_a = c_a - R_b_from_a * c_b_in_a;  // B's centre in B's frame: c_a
+    const CameraModel b = cahv(R_opt * R_b_from_a.transpose(), c_a, 300.0, 160.0, 120.0);
+    rectify::RectifyConfig config;
+    config.max_width = 320;
+    config.max_height = 240;
+    config.range_min_m = 2.0;
+    config.range_max_m = 100.0;
+    std::vector<std::byte> pool(rectify::Rectifier::workspaceBytes(config));
+    Arena arena(pool.data(), pool.size());
+    static rectify::Rectifier rectifier;
+    ASSERT_TRUE(rectifier.init(config, arena).isOk());
+    rectify::RectifyInput in;
+    in.model_a = &a;
+    in.model_b = &b;
+    in.R_b_from_a = R_b_from_a;
+    in.t_b_from_a_m = t_b_from_a;
+    rectify::RectifiedPair pair;
+    ASSERT_TRUE(rectifier.compute(in, pair).isOk());
+    RigidPose site_from_a;
+    site_from_a.R = Eigen::AngleAxisd(1.1, Vec3(0.0, 0.0, 1.0)).toRotationMatrix();
+    site_from_a.t_m = Vec3(10.0, -4.0, -0.3);
+    RectifiedGeometry g;
+    ASSERT_TRUE(rectifiedGeometry(pair, site_from_a, g).isOk());
+    // The fields, as documented.
+    EXPECT_EQ(g.fx_px, pair.model_a.fx_px);
+    EXPECT_EQ(g.cx_left_px, pair.model_a.cx_px);
+    EXPECT_EQ(g.cx_right_px, pair.model_b.cx_px);
+    EXPECT_EQ(g.baseline_m, pair.centre_b_rect_m.x());
+    // The left centre is camera A's projection centre in the site frame (truth: C).
+    EXPECT_LE((g.left_centre_site_m - (site_from_a.R * c_a + site_from_a.t_m)).cwiseAbs().maxCoeff(), 1e-12);
+    // Site points seen by camera A project, through the true cameras, to pixels of A and B;
+    // their rectified pixels and disparity triangulate back to the point.
+    TriangulationLimits limits;
+    limits.max_sigma_ratio = 1.0;
+    Random rng(21);
+    std::int32_t tested = 0;
+    for (std::int32_t i = 0; i < 50; ++i) {
+        const double u = rng.uniform01();
+        const double v = rng.uniform01();
+        const double r = rng.uniform01();
+        const Vec3 dir_opt(0.6 * (u - 0.5), 0.4 * (v - 0.5), 1.0);
+        const Vec3 x_a = c_a + R_opt.transpose() * ((5.0 + 40.0 * r) * dir_opt);  // in A's frame
+        Vec2 pa;
+        Vec2 pb;
+        Vec2 ra;
+        Vec2 rb;
+        if (!projectPoint(a, x_a, pa).isOk() || !projectPoint(b, Vec3(R_b_from_a * x_a + t_b_from_a), pb).isOk() ||
+            !rectifier.rectifyPixel(rectify::Rectifier::Side::kA, pa, ra).isOk() ||
+            !rectifier.rectifyPixel(rectify::Rectifier::Side::kB, pb, rb).isOk()) {
+            continue;
+        }
+        TerrainPoint tp{};
+        ASSERT_TRUE(triangulatePixel(g, limits, ra.x(), ra.y(), ra.x() - rb.x(), 0.1, tp).isOk());
+        const Vec3 site = site_from_a.R * x_a + site_from_a.t_m;
+        const Vec3 got(tp.x_m, tp.y_m, tp.z_m);
+        EXPECT_LE((got - site).norm(), 1e-5 * (x_a - c_a).norm() + 1e-5) << i;
+        ++tested;
+    }
+    EXPECT_GT(tested, 40);
+}
+
+TEST(RectifiedGeometryOf, ANonRotationIsRefusedAndLeavesTheOutputAlone) {
+    rectify::RectifiedPair pair;
+    pair.model_a = makePinhole(64, 48, 60.0);
+    pair.model_b = pair.model_a;
+    pair.centre_b_rect_m = Vec3(0.3, 0.0, 0.0);
+    RigidPose pose;
+    RectifiedGeometry g;
+    g.fx_px = 7.0;
+    ASSERT_TRUE(rectifiedGeometry(pair, pose, g).isOk());
+    EXPECT_EQ(g.fx_px, pair.model_a.fx_px);
+    EXPECT_TRUE(g.left_centre_site_m == Vec3::Zero());
+    pose.R(0, 0) = 2.0;
+    RectifiedGeometry untouched;
+    untouched.fx_px = 7.0;
+    const Status s = rectifiedGeometry(pair, pose, untouched);
+    EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+    EXPECT_STREQ(s.reason(), "rectified geometry: R_site_from_rect is not a rotation");
+    EXPECT_EQ(untouched.fx_px, 7.0);
+    pair.centre_b_rect_m = Vec3::Zero();
+    pose.R = Mat3::Identity();
+    EXPECT_STREQ(rectifiedGeometry(pair, pose, untouched).reason(), "rectified geometry: baseline_m must not be 0");
+}
 
 // North edge 1 m, west edge 10 m, 0.5 m cells, 20 columns (east 10..20 m) and 12 rows
 // (north 1 .. -5 m).

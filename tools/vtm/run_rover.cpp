@@ -68,35 +68,24 @@ struct Measured {
     double dz_mean_m = 0.0;
 };
 
-// Range of image 1's pixels from the rectified disparities: each point back into camera 1
-// (nearest pixel; the nearer point wins). NaN where none.
+// Range of image 1's pixels from the mapper's published points (each triangulated from a
+// rectified disparity, within the mapper's range and uncertainty limits): each point back
+// into camera 1 (nearest pixel; the nearer point wins), its range from the rectified left
+// centre. NaN where none.
 FloatImage rangeImage(const app::WideBaselineProducts& p) {
     const CameraModel& cam = p.camera;
     FloatImage range(cam.width_px, cam.height_px, 1, std::nanf(""));
-    const terrain::RectifiedGeometry& g = p.triangulation_geometry;
-    terrain::TriangulationLimits limits;
-    limits.min_range_m = 1e-3;
-    limits.max_range_m = 1e6;
-    limits.max_sigma_ratio = 1e9;
-    for (std::int32_t y = 0; y < p.disparity_px16.height(); ++y) {
-        for (std::int32_t x = 0; x < p.disparity_px16.width(); ++x) {
-            const std::int16_t d16 = p.disparity_px16.row(y)[x];
-            if (d16 == stereo::kNoDisparity) continue;
-            terrain::TerrainPoint tp{};
-            if (!terrain::triangulatePixel(g, limits, x, y, d16 / static_cast<double>(stereo::kDisparityScale),
-                                           p.sigma_px.row(y)[x], tp).isOk()) {
-                continue;
-            }
-            const Vec3 site(tp.x_m, tp.y_m, tp.z_m);
-            Vec2 px;
-            if (!projectPoint(cam, p.R_site_from_cam1.transpose() * (site - p.position1_site_m), px).isOk()) continue;
-            const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
-            const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
-            if (ix < 0 || iy < 0 || ix >= cam.width_px || iy >= cam.height_px) continue;
-            const auto r = static_cast<float>((site - g.left_centre_site_m).norm());
-            float& cell = range.at(ix, iy);
-            if (!(cell <= r)) cell = r;
-        }
+    const Vec3& centre = p.triangulation_geometry.left_centre_site_m;
+    for (const terrain::TerrainPoint& tp : p.points) {
+        const Vec3 site(tp.x_m, tp.y_m, tp.z_m);
+        Vec2 px;
+        if (!projectPoint(cam, p.R_site_from_cam1.transpose() * (site - p.position1_site_m), px).isOk()) continue;
+        const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
+        const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
+        if (ix < 0 || iy < 0 || ix >= cam.width_px || iy >= cam.height_px) continue;
+        const auto r = static_cast<float>((site - centre).norm());
+        float& cell = range.at(ix, iy);
+        if (!(cell <= r)) cell = r;
     }
     return range;
 }

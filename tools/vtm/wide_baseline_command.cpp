@@ -20,7 +20,6 @@
 #include "vtm/ground/image_io.hpp"
 #include "vtm/ground/sim_output.hpp"
 #include "vtm/motion/motion_refiner.hpp"
-#include "vtm/rectify/linear_camera.hpp"
 #include "vtm/rectify/rectifier.hpp"
 
 namespace vtm::tools {
@@ -415,11 +414,9 @@ void rectifiedPoses(const PairInputs& in, const RectifyRun& run, SimCameraPose& 
     const RigidPose site_from_1 = ground::siteFromCam(in.pose1);
     RigidPose site_from_rect1;
     site_from_rect1.R = site_from_1.R * run.pair.R_rect_from_a.transpose();
-    // Camera 1's projection centre in its reference frame: the rectified frame's origin is
-    // there (models with C != 0 keep it: centre = R_rect_from_a (c_a - c_a) = 0).
-    rectify::LinearCamera lin;
-    const Vec3 c1_ref = rectify::linearizeCamera(in.model1, lin).isOk() ? lin.centre_ref_m : Vec3::Zero();
-    site_from_rect1.t_m = site_from_1.t_m + site_from_1.R * c1_ref;
+    // Camera 1's projection centre in its reference frame, as the rectifier published it:
+    // the rectified frame's origin is there (models with C != 0 keep it).
+    site_from_rect1.t_m = site_from_1.t_m + site_from_1.R * run.pair.centre_a_ref_m;
     RigidPose site_from_rect2;
     site_from_rect2.R = site_from_rect1.R;
     site_from_rect2.t_m = site_from_rect1.t_m + site_from_rect1.R * run.pair.centre_b_rect_m;

@@ -5,7 +5,9 @@
 #include "request_support.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/features/visibility.hpp"
-#include "vtm/rectify/linear_camera.hpp"
+#include "vtm/stereo/disparity_window.hpp"
+#include "vtm/terrain/ground_bound.hpp"
+#include "vtm/terrain/rectified_geometry.hpp"
 
 namespace vtm::app {
 namespace {
@@ -125,7 +127,7 @@ std::size_t WideBaselineMapper::workspaceBytes(const WideBaselineMapperConfig& c
            terrain::HeightMap::workspaceBytes(config.height_map) +
            Arena::arrayBytes<std::uint16_t>(s.frame)              // staging frame of a > 8-bit camera
            + 3U * Arena::arrayBytes<std::uint8_t>(s.frame)        // the two frames (8-bit), visibility mask
-           + 3U * Arena::arrayBytes<std::uint8_t>(s.rectified)    // rectified pair, shifted image 2
+           + 2U * Arena::arrayBytes<std::uint8_t>(s.rectified)    // rectified pair
            + Arena::arrayBytes<std::int16_t>(s.rectified)         // disparity
            + Arena::arrayBytes<float>(s.rectified)                // its sigma
            + Arena::arrayBytes<terrain::TerrainPoint>(s.rectified);  // one point per rectified pixel
@@ -163,13 +165,12 @@ Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& a
     visible_ = carve<std::uint8_t>(arena, w, h);
     rect1_ = carve<std::uint8_t>(arena, rw, rh);
     rect2_ = carve<std::uint8_t>(arena, rw, rh);
-    shifted2_ = carve<std::uint8_t>(arena, rw, rh);
     disparity_ = carve<std::int16_t>(arena, rw, rh);
     sigma_ = carve<float>(arena, rw, rh);
     points_ = arena.allocateArray<terrain::TerrainPoint>(sizesOf(config).rectified);
     if (frame16_.data() == nullptr || grey1_.data() == nullptr ||
         grey2_.data() == nullptr || visible_.data() == nullptr || rect1_.data() == nullptr ||
-        rect2_.data() == nullptr || shifted2_.data() == nullptr || disparity_.data() == nullptr ||
+        rect2_.data() == nullptr || disparity_.data() == nullptr ||
         sigma_.data() == nullptr || points_.empty()) {
         return Status(StatusCode::kOutOfMemory, "WideBaselineMapper::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
@@ -313,33 +314,22 @@ Status WideBaselineMapper::runRectify() noexcept {
     if (st.isOk()) {
         st = rectifier_.remap(rectify::Rectifier::Side::kB, grey2_, rect2_);
     }
-    rectify::LinearCamera lin;
-    if (st.isOk()) {
-        st = rectify::linearizeCamera(model_, lin);
-    }
     if (st.isOk()) {
         // The rectified left camera in the site frame, for the triangulation.
-        terrain::RectifiedGeometry& g = p.triangulation_geometry;
-        g.fx_px = p.rectified.model_a.fx_px;
-        g.fy_px = p.rectified.model_a.fy_px;
-        g.cx_left_px = p.rectified.model_a.cx_px;
-        g.cx_right_px = p.rectified.model_b.cx_px;
-        g.cy_px = p.rectified.model_a.cy_px;
-        g.baseline_m = p.rectified.centre_b_rect_m.x();
-        g.R_site_from_rect = p.R_site_from_cam1 * p.rectified.R_rect_from_a.transpose();
-        g.left_centre_site_m = p.position1_site_m + p.R_site_from_cam1 * lin.centre_ref_m;
-        st = g.validate();
+        RigidPose site_from_cam1;
+        site_from_cam1.R = p.R_site_from_cam1;
+        site_from_cam1.t_m = p.position1_site_m;
+        st = terrain::rectifiedGeometry(p.rectified, site_from_cam1, p.triangulation_geometry);
     }
     return finish(Stage::kRectify, st,
                   st.isOk() ? static_cast<std::int64_t>(std::floor(100.0 * p.rectified.convergence_deg + 0.5)) : 0, t0);
 }
 
-// The disparity window: the refined inliers' rectified disparities, sorted; the window of
-// `count` disparities that holds the most of them (the nearest such window when several
-// do), centred on the ones it holds, inside the rectifier's bounds for the range interval.
+// The disparity window (stereo::placeDisparityWindow) on the refined inliers' rectified
+// disparities, inside the rectifier's bounds for the range interval.
 Status WideBaselineMapper::placeDisparityWindow() noexcept {
     WideBaselineProducts& p = products_;
-    std::int32_t n = 0;
+    std::size_t n = 0U;
     for (std::int32_t i = 0; i < matches_.count; ++i) {
         Vec2 ra;
         Vec2 rb;
@@ -347,126 +337,48 @@ Status WideBaselineMapper::placeDisparityWindow() noexcept {
             !rectifier_.rectifyPixel(rectify::Rectifier::Side::kB, pixels_b_[i], rb).isOk()) {
             continue;
         }
-        // Insertion into the sorted prefix (n <= kMaxFeatures).
-        const double d = ra.x() - rb.x();
-        std::int32_t k = n;
-        for (; k > 0 && disparities_[k - 1] > d; --k) {
-            disparities_[k] = disparities_[k - 1];
-        }
-        disparities_[k] = d;
+        disparities_[n] = ra.x() - rb.x();
         ++n;
     }
-    if (n == 0) {
+    if (n == 0U) {
         return Status(StatusCode::kDegenerate, "stereo: no refined inlier maps into the rectified pair");
     }
-    const std::int32_t count = config_.stereo.d_max - config_.stereo.d_min + 1;
-    // Two pixels of margin on each side for the subpixel fit and kOutOfRange.
-    const double span = static_cast<double>(count - 1) - 4.0;
-    std::int32_t best_lo = 0;
-    std::int32_t best_hi = 1;  // exclusive; n >= 1: the first disparity alone is a window
-    std::int32_t hi = 0;
-    for (std::int32_t lo = 0; lo < n; ++lo) {
-        hi = hi > lo ? hi : lo;
-        for (; hi < n && disparities_[hi] - disparities_[lo] <= span; ++hi) {
-        }
-        if (hi - lo > best_hi - best_lo) {
-            best_lo = lo;
-            best_hi = hi;
-        }
-    }
-    const double centre = 0.5 * (disparities_[best_lo] + disparities_[best_hi - 1]);
-    std::int32_t start = static_cast<std::int32_t>(std::floor(centre - 0.5 * static_cast<double>(count - 1) + 0.5));
-    // Inside the bounds the range interval implies, when they are wider than the window.
-    if (p.rectified.d_max - p.rectified.d_min + 1 >= count) {
-        start = start < p.rectified.d_min ? p.rectified.d_min : start;
-        start = start + count - 1 > p.rectified.d_max ? p.rectified.d_max - count + 1 : start;
-    }
-    p.disparity_min = start;
-    p.disparity_max = start + count - 1;
-    p.features_in_window = 0;
-    for (std::int32_t i = 0; i < n; ++i) {
-        p.features_in_window += (disparities_[i] >= p.disparity_min && disparities_[i] <= p.disparity_max) ? 1 : 0;
-    }
+    stereo::DisparityWindow window;
+    VTM_RETURN_IF_ERROR(stereo::placeDisparityWindow(Span<double>(disparities_, n),
+                                                     config_.stereo.d_max - config_.stereo.d_min + 1,
+                                                     p.rectified.d_min, p.rectified.d_max, window));
+    p.disparity_min = window.d_min;
+    p.disparity_max = window.d_max;
+    p.features_in_window = window.samples_inside;
     return Status::ok();
 }
 
+// The matcher searches the placed window; the speckle filter; then the ground bound
+// (terrain::boundByGround) drops disparities that a plane relief_below_m under the ground
+// the rover stands on puts beyond the window.
 Status WideBaselineMapper::runStereo() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     WideBaselineProducts& p = products_;
     Status st = placeDisparityWindow();
     if (st.isOk()) {
-        // shifted2(u) = rect2(u - s): a disparity d of the pair is d - s of (rect1, shifted2).
-        const std::int32_t s = p.disparity_min;
-        const std::int32_t w = rect2_.width();
-        for (std::int32_t y = 0; y < rect2_.height(); ++y) {
-            const std::uint8_t* src = rect2_.row(y);
-            std::uint8_t* dst = shifted2_.row(y);
-            for (std::int32_t u = 0; u < w; ++u) {
-                const std::int32_t x = u - s;
-                dst[u] = (x >= 0 && x < w) ? src[x] : 0U;
-            }
-        }
-        const stereo::DisparityOutput out{disparity_, sigma_, {}};
-        st = stereo_.compute(rect1_, shifted2_, out, &p.stereo);
-        if (st.isOk()) {
-            st = speckle_.apply(out, &p.stereo, &p.speckles);
-        }
+        st = stereo_.setDisparityWindow(p.disparity_min);
+    }
+    const stereo::DisparityOutput out{disparity_, sigma_, {}};
+    if (st.isOk()) {
+        st = stereo_.compute(rect1_, rect2_, out, &p.stereo);
     }
     if (st.isOk()) {
-        const auto offset = static_cast<std::int32_t>(p.disparity_min * stereo::kDisparityScale);
-        for (std::int32_t y = 0; y < disparity_.height(); ++y) {
-            std::int16_t* row = disparity_.row(y);
-            for (std::int32_t x = 0; x < disparity_.width(); ++x) {
-                if (row[x] != stereo::kNoDisparity) {
-                    row[x] = static_cast<std::int16_t>(static_cast<std::int32_t>(row[x]) + offset);
-                }
-            }
-        }
-        p.outside_window = boundByGround();
-        if (p.stereo.valid_pixels == p.outside_window) {
-            st = Status(StatusCode::kNoData, "stereo: no pixel of the rectified pair got a disparity");
-        }
+        st = speckle_.apply(out, &p.stereo, &p.speckles);
+    }
+    if (st.isOk()) {
+        const double plane_z = pose1_.position_m[2] + config_.relief_below_m;  // site z is down
+        st = terrain::boundByGround(p.triangulation_geometry, plane_z, p.disparity_min, p.disparity_max, disparity_,
+                                    p.outside_window);
+    }
+    if (st.isOk() && p.stereo.valid_pixels == p.outside_window) {
+        st = Status(StatusCode::kNoData, "stereo: no pixel of the rectified pair got a disparity");
     }
     return finish(Stage::kStereo, st, st.isOk() ? p.stereo.valid_pixels - p.outside_window : 0, t0);
-}
-
-// Pixels whose true disparity cannot be inside the searched window: along each rectified
-// ray the terrain is hit no farther than a plane relief_below_m under the ground the rover
-// stands on (when the ray points down), so the true depth is at most that plane's depth Z_p
-// and the true disparity lies beyond d_p = fx b / Z_p + (cx1 - cx2) (above it for b > 0,
-// below for b < 0). When d_p already lies beyond the window by more than a pixel, the
-// pixel's disparity is a wrong match: it is dropped. Returns the pixels dropped.
-std::int32_t WideBaselineMapper::boundByGround() noexcept {
-    const WideBaselineProducts& p = products_;
-    const terrain::RectifiedGeometry& g = p.triangulation_geometry;
-    const double plane_z = pose1_.position_m[2] + config_.relief_below_m;  // site z is down
-    const double height = plane_z - g.left_centre_site_m.z();             // centre above the plane
-    const double c0 = g.cx_left_px - g.cx_right_px;
-    const Vec3 down_rect = g.R_site_from_rect.transpose() * Vec3(0.0, 0.0, 1.0);  // site down in the rectified frame
-    std::int32_t dropped = 0;
-    for (std::int32_t y = 0; y < disparity_.height(); ++y) {
-        std::int16_t* row = disparity_.row(y);
-        const double ry = (static_cast<double>(y) - g.cy_px) / g.fy_px;
-        for (std::int32_t x = 0; x < disparity_.width(); ++x) {
-            if (row[x] == stereo::kNoDisparity) {
-                continue;
-            }
-            // Ray (rx, ry, 1) in the rectified frame; its downward component per unit depth.
-            const double rx = (static_cast<double>(x) - g.cx_left_px) / g.fx_px;
-            const double down = rx * down_rect.x() + ry * down_rect.y() + down_rect.z();
-            if (!(down > 1e-9) || !(height > 0.0)) {
-                continue;  // the ray never reaches the plane: no bound
-            }
-            const double d_plane = g.fx_px * g.baseline_m * down / height + c0;  // Z_p = height / down
-            const bool outside = g.baseline_m > 0.0 ? d_plane > static_cast<double>(p.disparity_max) + 1.0
-                                                    : d_plane < static_cast<double>(p.disparity_min) - 1.0;
-            if (outside) {
-                row[x] = stereo::kNoDisparity;
-                ++dropped;
-            }
-        }
-    }
-    return dropped;
 }
 
 Status WideBaselineMapper::runTriangulate() noexcept {

@@ -251,6 +251,7 @@ void Rectifier::fillPair(const Geometry& g, RectifiedPair& out) const noexcept {
     p.R_rect_from_b = sides_[1].R_rect_from_ref;
     p.baseline_m = g.baseline_m;
     p.centre_b_rect_m = Vec3(g.sign * g.baseline_m, 0.0, 0.0);
+    p.centre_a_ref_m = g.lin_a.centre_ref_m;
     p.convergence_deg = g.convergence_deg;
     const double dx = std::fabs(-0.5 - sides_[0].cx_px) > std::fabs(out_width_ - 0.5 - sides_[0].cx_px)
                           ? -0.5 - sides_[0].cx_px

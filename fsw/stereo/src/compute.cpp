@@ -32,6 +32,9 @@ struct Work {
     std::int16_t* bestIndex = nullptr;
     std::int32_t* rlCost = nullptr;
     std::int16_t* rlIndex = nullptr;
+    // The window's shift (setDisparityWindow) in 1/16 px: the search runs on the Config's
+    // disparities over the moved right image; every disparity found gets this added.
+    std::int32_t shift16 = 0;
 };
 
 // Pushes template row y' (or a row of zero cost below the image) into ring slot `slot`,
@@ -193,7 +196,9 @@ void emitRow(const Work& k, std::int32_t y, const DisparityOutput& out, StereoSt
     std::uint8_t* reason = out.reason.valid() ? out.reason.row(y) : nullptr;
     for (std::int32_t x = 0; x < k.w; ++x) {
         const Decision dec = decide(k, x);
-        disp[x] = dec.disparity16;
+        disp[x] = dec.reason == Reason::kValid
+                      ? static_cast<std::int16_t>(static_cast<std::int32_t>(dec.disparity16) + k.shift16)
+                      : dec.disparity16;
         if (sigma != nullptr) {
             sigma[x] = dec.sigma;
         }
@@ -235,6 +240,20 @@ void prefilterInto(const Config& c, const ImageView<const std::uint8_t>& in, std
         detail::removeLocalMean(in, c.prefilter_window, columns, out);
     } else {
         (void)copyImage(in, out);  // sizes were checked by checkInputs
+    }
+}
+
+// moved(u) = in(u - shift), 0 where u - shift is outside the image: the right image in
+// the window's coordinates (setDisparityWindow).
+void moveColumns(const ImageView<const std::uint8_t>& in, std::int32_t shift, const ImageView<std::uint8_t>& moved) {
+    const std::int32_t w = in.width();
+    for (std::int32_t y = 0; y < in.height(); ++y) {
+        const std::uint8_t* src = in.row(y);
+        std::uint8_t* dst = moved.row(y);
+        for (std::int32_t u = 0; u < w; ++u) {
+            const std::int32_t x = u - shift;
+            dst[u] = (x >= 0 && x < w) ? src[x] : 0U;
+        }
     }
 }
 
@@ -282,8 +301,18 @@ Status MlStereo::compute(const ImageView<const std::uint8_t>& left, const ImageV
            dtRing_.data(), dtRow_.data(), templateOffset_.data(), costRing_.data(), colSums_.data(),
            winSums_.data(), bestCost_.data(), secondCost_.data(), bestIndex_.data(), rlCost_.data(),
            rlIndex_.data()};
+    const std::int32_t shift = window_min_ - config_.d_min;
+    k.shift16 = shift * kDisparityScale;
+    if (shift == 0) {
+        prefilterInto(config_, right, boxColumns_.data(), k.right);
+    } else if (config_.prefilter == Prefilter::kNone) {
+        moveColumns(right, shift, k.right);
+    } else {
+        // The moved right image is staged in the left image's buffer, which is filled next.
+        moveColumns(right, shift, k.left);
+        prefilterInto(config_, k.left, boxColumns_.data(), k.right);
+    }
     prefilterInto(config_, left, boxColumns_.data(), k.left);
-    prefilterInto(config_, right, boxColumns_.data(), k.right);
     // Columns of the DT cost row outside the right image stay at the outlier cost for the
     // whole pair (the y pass writes only inside); unused bins' stale rows are never read.
     std::memset(dtRow_.data(), k.p.maxCost, dtRow_.size());

@@ -92,7 +92,23 @@ Status MlStereo::init(const Config& config, Arena& arena) noexcept {
     }
     detail::buildCostTable(config, p, costTable_.data());
     config_ = config;
+    window_min_ = config.d_min;
     initialized_ = true;
+    return Status::ok();
+}
+
+Status MlStereo::setDisparityWindow(std::int32_t d_min) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "MlStereo::setDisparityWindow: init() has not succeeded");
+    }
+    // d * 16 +- 8 (the subpixel offset) must fit int16 and never be kNoDisparity.
+    constexpr std::int32_t kLimit = (32767 - 8) / kDisparityScale;  // 2047
+    const std::int32_t span = config_.d_max - config_.d_min;  // count - 1, 0..1023
+    if (d_min < -kLimit || d_min > kLimit || d_min + span > kLimit) {  // the sum only for |d_min| <= 2047
+        return Status(StatusCode::kInvalidArgument,
+                      "MlStereo::setDisparityWindow: d_min: the window must lie in -2047..2047 px", d_min);
+    }
+    window_min_ = d_min;
     return Status::ok();
 }
 

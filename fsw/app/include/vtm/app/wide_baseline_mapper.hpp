@@ -18,11 +18,12 @@
 //                pose is replaced by the refined one
 //   rectify      Fusiello rectification of the refined pair and both remapped images
 //   stereo       the disparity window (stereo.d_max - stereo.d_min + 1 disparities) is
-//                placed on the refined features' rectified disparities (the window that
-//                holds most of them, centred on them); image 2 is shifted by the window's
-//                start so that MlStereo searches 0..count-1; the shift is added back;
-//                disparities whose ray the ground bound puts beyond the window are dropped
-//                (relief_below_m)
+//                placed on the refined features' rectified disparities
+//                (stereo::placeDisparityWindow: the window that holds most of them,
+//                centred on them, inside the rectifier's bounds); MlStereo searches it
+//                (setDisparityWindow); speckles are dropped; disparities whose ray the
+//                ground bound puts beyond the window are dropped (terrain::boundByGround,
+//                relief_below_m)
 //   triangulate  every disparity to a site point with its range sigma (fsw/terrain)
 //   grid         terrain::HeightMap on the configured site grid (height_map: the highest
 //                point per cell by default)
@@ -183,7 +184,6 @@ private:
     [[nodiscard]] Status runRectify() noexcept;
     [[nodiscard]] Status placeDisparityWindow() noexcept;
     [[nodiscard]] Status runStereo() noexcept;
-    [[nodiscard]] std::int32_t boundByGround() noexcept;
     [[nodiscard]] Status runTriangulate() noexcept;
     [[nodiscard]] Status runGrid() noexcept;
     Status finish(Stage stage, const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept;
@@ -205,7 +205,7 @@ private:
     features::MatchSet matches_{};
     Vec2 pixels_a_[features::kMaxFeatures];
     Vec2 pixels_b_[features::kMaxFeatures];
-    double disparities_[features::kMaxFeatures] = {};  // rectified disparities of the inliers (sorted)
+    double disparities_[features::kMaxFeatures] = {};  // rectified disparities of the inliers (sorted by the placement)
     std::uint8_t inliers_[features::kMaxFeatures] = {};
     ImageView<std::uint16_t> frame16_{};  // staging frame of a camera of more than 8 bits
     ImageView<std::uint8_t> grey1_{};
@@ -213,7 +213,6 @@ private:
     ImageView<std::uint8_t> visible_{};
     ImageView<std::uint8_t> rect1_{};
     ImageView<std::uint8_t> rect2_{};
-    ImageView<std::uint8_t> shifted2_{};  // rect2_ moved by the window's start
     ImageView<std::int16_t> disparity_{};
     ImageView<float> sigma_{};
     Span<terrain::TerrainPoint> points_{};

@@ -57,6 +57,11 @@ struct RectifiedPair {
     // baseline, z forward, y down; B's rectified optical frame is the same rotation).
     Mat3 R_rect_from_a = Mat3::Identity(), R_rect_from_b = Mat3::Identity();
     Vec3 centre_b_rect_m = Vec3::Zero();  // B's projection centre in the rectified frame: (+-baseline_m, 0, 0)
+    // A's projection centre (the rectified frame's origin) in A's reference frame:
+    // linearizeCamera(model A).centre_ref_m, i.e. 0 for a pinhole, C for CAHV(OR). With
+    // R_rect_from_a and A's site pose it places the rectified pair in the site frame
+    // (terrain::rectifiedGeometry).
+    Vec3 centre_a_ref_m = Vec3::Zero();
     double baseline_m = 0.0;              // |c_b - c_a|
     // Disparity d = x_a - x_b (rectified pixels): B's match of A's (x, y) is (x - d, y),
     // fsw/stereo's convention. The rectified x axis is +-(c_b - c_a), the sign chosen so

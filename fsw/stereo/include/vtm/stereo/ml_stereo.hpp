@@ -133,7 +133,29 @@ public:
     // kInvalidConfig (bad field) or kOutOfMemory (arena too small).
     [[nodiscard]] Status init(const Config& config, Arena& arena) noexcept;
 
-    // Dense disparity of a rectified 8-bit pair (same size, within capacity).
+    // The disparity window of the following compute() calls: d_min .. d_min + count - 1,
+    // count = config.d_max - config.d_min + 1 fixed at init (init() sets the Config's own
+    // window, d_min = config.d_min). A caller that knows where the scene lies (the
+    // wide-baseline mapper, from its refined features: placeDisparityWindow in
+    // disparity_window.hpp) moves the window per request, as descent::PlaneSweep's
+    // setDepthRange moves its depths; the workspace does not change.
+    // The search runs in window coordinates: the right image is moved by
+    // shift = d_min - config.d_min columns inside the workspace (right'(u) = right(u - shift)),
+    // its columns outside the image black (grey level 0, before the prefilter), and the
+    // Config's d_min..d_max are searched on (left, right'); shift is added to every
+    // disparity found. So right columns beyond the moved image (u - shift < 0 or >= width)
+    // are black pixels to the prefilter, the distance transform and the left-right check
+    // (not "no pixel": only columns outside 0..width-1 of right' are), and right columns
+    // that the move pushes off the image are not seen at all (docs/stereo.md).
+    // kNotInitialized; kInvalidArgument when the window leaves -2047..2047 px (the
+    // disparities in 1/16 px, with their subpixel part, must fit int16).
+    [[nodiscard]] Status setDisparityWindow(std::int32_t d_min) noexcept;
+    // The window searched (inclusive).
+    [[nodiscard]] std::int32_t windowMin() const noexcept { return window_min_; }
+    [[nodiscard]] std::int32_t windowMax() const noexcept { return window_min_ + (config_.d_max - config_.d_min); }
+
+    // Dense disparity of a rectified 8-bit pair (same size, within capacity), over the
+    // disparity window (setDisparityWindow; the Config's d_min..d_max unless moved).
     // kNotInitialized, kSizeMismatch (sizes differ / exceed capacity / outputs too
     // small), kInvalidArgument (empty view). Never allocates.
     [[nodiscard]] Status compute(const ImageView<const std::uint8_t>& left,
@@ -144,6 +166,7 @@ public:
 
 private:
     Config config_{};
+    std::int32_t window_min_ = 0;  // the searched window's first disparity
     bool initialized_ = false;
     // Workspace spans, carved at init (see ml_stereo.cpp for the layout).
     Span<std::uint8_t> costTable_{};     // cost by squared distance (D2 units)

@@ -1,8 +1,8 @@
 // Triangulation of a rectified pair's disparities (paper §6): every valid disparity becomes
 // a 3-D point in the site frame with the 1-sigma uncertainty of its range.
 //
-// Rectified geometry (fsw/rectify's RectifiedPair, copied into plain numbers so that this
-// module depends on vtm_core only): both rectified cameras are undistorted pinholes with
+// Rectified geometry (fsw/rectify's RectifiedPair as plain numbers, so that triangulation
+// itself needs vtm_core only; rectified_geometry.hpp builds it from the pair): both rectified cameras are undistorted pinholes with
 // the same fx, fy, cy and orientation; the right one's projection centre is baseline_m
 // along the rectified +x (or -x: then disparities are negative). With the disparity
 // convention of fsw/stereo (d = x_left - x_right):
