@@ -114,11 +114,12 @@ ZONES = [
          why="fsw/app: vtm/core/, vtm/app/ and the modules' vtm/<module>/ headers, and the hal interfaces "
              "hal/*.hpp (never a hal driver, sim/, tools/ or OpenCV)",
          modules="all"),
-    # A module (fsw/core, fsw/stereo, ...): fsw/core and itself; modules do not include each other.
+    # A module (fsw/core, fsw/stereo, ...): fsw/core, itself and the modules it links (MODULE_DEPS).
     Zone("fsw/", frozenset(FLIGHT_STD), _rx(r"^vtm/core/"),
-         why="fsw/<module>: vtm/core/ (Eigen through vtm/core/eigen.hpp) and its own vtm/<module>/ "
-             "headers; modules do not include each other (shared types go to fsw/core, fsw/app combines "
-             "modules)",
+         why="fsw/<module>: vtm/core/ (Eigen through vtm/core/eigen.hpp), its own vtm/<module>/ "
+             "headers and those of the modules its CMake target links (target_link_libraries in "
+             "fsw/<module>/CMakeLists.txt, no cycles); shared types go to fsw/core, fsw/app combines "
+             "modules",
          modules="own"),
     Zone("hal/include/", frozenset(FLIGHT_STD), _rx(r"^vtm/core/", HAL_INTERFACE.pattern),
          why="hal interfaces: fsw/core and other hal interfaces only"),
@@ -153,6 +154,36 @@ ALWAYS_FORBIDDEN = [
 
 # The folders of fsw/ (core, app and the modules), set by check_sources from the tree.
 FSW_MODULES: set[str] = set()
+# module -> the fsw modules its library links (target_link_libraries(vtm_<module> ... vtm_<x>)
+# in fsw/<module>/CMakeLists.txt), set by check_sources: a module may include those headers.
+MODULE_DEPS: dict[str, set[str]] = {}
+LINK_RE = re.compile(r"target_link_libraries\s*\(\s*vtm_(\w+)([^)]*)\)", re.S)
+
+
+def read_module_deps(root: Path) -> list[str]:
+    """Fills MODULE_DEPS from the fsw CMake files; returns findings for dependency cycles."""
+    MODULE_DEPS.clear()
+    for m in FSW_MODULES:
+        cmake = root / "fsw" / m / "CMakeLists.txt"
+        text = cmake.read_text(errors="replace") if cmake.is_file() else ""
+        deps = set()
+        for lib, args in LINK_RE.findall(text):
+            if lib == m:
+                deps |= {d for d in re.findall(r"\bvtm_(\w+)", args) if d in FSW_MODULES and d != m}
+        MODULE_DEPS[m] = deps
+    findings = []
+    for start in sorted(MODULE_DEPS):  # a cycle: start reaches itself through its links
+        seen, todo = set(), list(MODULE_DEPS[start])
+        while todo:  # bounded by the number of modules
+            d = todo.pop()
+            if d == start:
+                findings.append(f"fsw/{start}/CMakeLists.txt: module-cycle: vtm_{start} reaches itself "
+                                "through the modules it links")
+                break
+            if d not in seen:
+                seen.add(d)
+                todo.extend(MODULE_DEPS.get(d, ()))
+    return findings
 
 # Direct Eigen includes are allowed only in the gate header (which configures it for flight).
 EIGEN_INCLUDE = re.compile(r"^(Eigen|unsupported/Eigen)(/|$)")
@@ -219,7 +250,8 @@ def check_include(rel: str, path: Path, kind: str, header: str) -> str | None:
     if any(rx.search(header) for rx in zone.allowed):
         return None
     if zone.modules:
-        names = FSW_MODULES if zone.modules == "all" else {rel.split("/")[1]}
+        own = rel.split("/")[1]
+        names = FSW_MODULES if zone.modules == "all" else {own} | MODULE_DEPS.get(own, set())
         m = FSW_MODULE_HEADER.match(header)
         if m and m.group(1) in names:
             return None
@@ -273,6 +305,7 @@ def check_sources(root: Path) -> list[str]:
         raise UsageError(f"{root}: no fsw/ directory (not the repository root?)")
     FSW_MODULES.clear()
     FSW_MODULES.update(d.name for d in (root / "fsw").iterdir() if d.is_dir())
+    findings.extend(read_module_deps(root))
     for top in ("fsw", "hal", "sim"):
         for path in sorted((root / top).rglob("*")):
             if path.suffix not in SOURCE_EXT or not path.is_file():

@@ -88,7 +88,21 @@ class PolicyTest(unittest.TestCase):
         found = self.tree.findings()
         self.assertEqual([":".join(f.split(":")[:3]) for f in found],
                          [f"fsw/stereo/src/ml_stereo.cpp:{n}: include-layer" for n in range(1, 5)])
-        self.assertIn("modules do not include each other", found[0])
+        self.assertIn("those of the modules its CMake target links", found[0])
+
+    def test_module_may_include_the_modules_it_links_and_no_others(self) -> None:
+        self.tree.write("fsw/terrain/CMakeLists.txt",
+                        "target_link_libraries(vtm_terrain PUBLIC vtm_core vtm_rectify)\n")
+        self.tree.write("fsw/rectify/CMakeLists.txt", "target_link_libraries(vtm_rectify PUBLIC vtm_core)\n")
+        self.tree.write("fsw/terrain/src/geometry.cpp",
+                        include("vtm/rectify/rectifier.hpp") + include("vtm/stereo/ml_stereo.hpp"))
+        self.assertEqual(self.rules(), ["fsw/terrain/src/geometry.cpp:2: include-layer"])
+
+    def test_a_cycle_of_module_links_is_refused(self) -> None:
+        self.tree.write("fsw/terrain/CMakeLists.txt", "target_link_libraries(vtm_terrain PUBLIC vtm_rectify)\n")
+        self.tree.write("fsw/rectify/CMakeLists.txt", "target_link_libraries(vtm_rectify PUBLIC vtm_terrain)\n")
+        found = self.tree.findings()
+        self.assertEqual(sorted(f.split(": ")[1] for f in found), ["module-cycle", "module-cycle"])
 
     def test_core_may_include_only_core(self) -> None:
         self.tree.write("fsw/core/src/arena.cpp", include("vtm/core/arena.hpp") + include("vtm/stereo/x.hpp"))
