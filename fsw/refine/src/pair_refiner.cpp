@@ -133,85 +133,116 @@ Status PairRefiner::init(const Config& config, Arena& arena) noexcept {
     return Status::ok();
 }
 
-Status PairRefiner::checkRequest(const Request& rq) const noexcept {
-    VTM_RETURN_IF_ERROR(checkRigidPose(rq.prior.b_from_a, kRotationTolerance,
+Status PairRefiner::checkRequest(const Request& request) const noexcept {
+    VTM_RETURN_IF_ERROR(checkRigidPose(request.prior.b_from_a, kRotationTolerance,
                                        "Request.prior.b_from_a: R not a rotation (within 1e-6) or t_m not finite"));
-    if (rq.prior.b_from_a.t_m.dot(rq.prior.b_from_a.t_m) == 0.0) {
+    if (request.prior.b_from_a.t_m.dot(request.prior.b_from_a.t_m) == 0.0) {
         return badRequest("Request.prior.b_from_a.t_m: zero baseline (direction undefined)");
     }
-    VTM_RETURN_IF_ERROR(validateCameraModel(rq.prior.model_a));
-    VTM_RETURN_IF_ERROR(validateCameraModel(rq.prior.model_b));
-    if (!inRange(rq.rotation_sigma_rad, 0.0, math::kPi)) {
+    VTM_RETURN_IF_ERROR(validateCameraModel(request.prior.model_a));
+    VTM_RETURN_IF_ERROR(validateCameraModel(request.prior.model_b));
+    if (!inRange(request.rotation_sigma_rad, 0.0, math::kPi)) {
         return badRequest("Request.rotation_sigma_rad: must be 0 (none) .. pi, finite");
     }
-    if (!(math::isFinite(rq.range_min_m) && rq.range_min_m > 0.0 && rq.range_min_m < rq.range_max_m &&
-          rq.range_max_m <= 1e7)) {
+    if (!(math::isFinite(request.range_min_m) && request.range_min_m > 0.0 && request.range_min_m < request.range_max_m &&
+          request.range_max_m <= 1e7)) {
         return badRequest("Request.range_min_m/range_max_m: need 0 < range_min_m < range_max_m <= 1e7 m");
     }
-    VTM_RETURN_IF_ERROR(checkImage(rq.image_a, rq.prior.model_a, config_, "Request.image_a: empty",
+    VTM_RETURN_IF_ERROR(checkImage(request.image_a, request.prior.model_a, config_, "Request.image_a: empty",
                                    "Request.image_a: larger than refine.max_width/max_height",
                                    "Request.image_a: size differs from prior.model_a"));
-    VTM_RETURN_IF_ERROR(checkImage(rq.image_b, rq.prior.model_b, config_, "Request.image_b: empty",
+    VTM_RETURN_IF_ERROR(checkImage(request.image_b, request.prior.model_b, config_, "Request.image_b: empty",
                                    "Request.image_b: larger than refine.max_width/max_height",
                                    "Request.image_b: size differs from prior.model_b"));
-    if (rq.scene == Scene::kGround) {
-        const double n2 = rq.up_a.dot(rq.up_a);
+    if (request.scene == Scene::kGround) {
+        const double n2 = request.up_a.dot(request.up_a);
         if (!(math::isFinite(n2) && n2 > 0.25 && n2 < 4.0)) {
             return badRequest("Request.up_a: the ground scene needs a finite unit vector (norm 0.5..2)");
         }
-        if (!(math::isFinite(rq.camera_height_m) && rq.camera_height_m > 0.0)) {
+        if (!(math::isFinite(request.camera_height_m) && request.camera_height_m > 0.0)) {
             return badRequest("Request.camera_height_m: the ground scene needs a height > 0, finite");
         }
-    } else if (rq.scene != Scene::kGeneral) {
-        return badRequest("Request.scene: neither kGround nor kGeneral", static_cast<std::int64_t>(rq.scene));
+    } else if (request.scene != Scene::kGeneral) {
+        return badRequest("Request.scene: neither kGround nor kGeneral", static_cast<std::int64_t>(request.scene));
     }
     return Status::ok();
 }
 
-Status PairRefiner::refine(const Request& rq, Result& result) noexcept {
+// Step 1 (ground scene): A's part that B sees, into the mask; the general scene has none.
+Status PairRefiner::maskVisible(const Request& request, const features::MatchPrediction& prediction,
+                                Result& result, ImageView<const std::uint8_t>& mask) const noexcept {
+    const std::int32_t w = request.image_a.width();
+    const std::int32_t h = request.image_a.height();
+    if (request.scene != Scene::kGround) {
+        result.visible_px = static_cast<std::int64_t>(w) * static_cast<std::int64_t>(h);
+        mask = ImageView<const std::uint8_t>();
+        return Status::ok();
+    }
+    features::VisibilityPrior prior;
+    prior.up_a = request.up_a;
+    prior.camera_height_m = request.camera_height_m;
+    prior.margin_px = config_.visibility_margin_px;
+    const ImageView<std::uint8_t> visible(visible_.data(), w, h);
+    VTM_RETURN_IF_ERROR(features::predictVisibility(prediction, prior, visible, result.visible_px));
+    if (result.visible_px == 0) {
+        return Status(StatusCode::kDegenerate, "refine: the prior pose says image B sees none of image A");
+    }
+    mask = visible;
+    return Status::ok();
+}
+
+// Step 4: the motion from the prior on the matches, and the refined pair.
+Status PairRefiner::refineMotion(const Request& request, Result& result) noexcept {
+    const std::size_t n = result.pixels_a.size();
+    motion::MotionInput input;
+    input.pair = request.prior;
+    input.pixels_a = result.pixels_a;
+    input.pixels_b = result.pixels_b;
+    motion::MotionConfig mc = config_.motion;
+    mc.range_min_m = request.range_min_m;
+    mc.range_max_m = request.range_max_m;
+    mc.rotation_prior_sigma_rad = request.rotation_sigma_rad;
+    VTM_RETURN_IF_ERROR(refiner_->refine(input, mc, result.motion, Span<std::uint8_t>(inliers_.data(), n),
+                                         Span<double>(ranges_.data(), n)));
+    const motion::MotionResult& m = result.motion;
+    result.refined.b_from_a.R = m.R_b_from_a;
+    result.refined.b_from_a.t_m = m.t_b_from_a_m;
+    result.rotation_change_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, request.prior.b_from_a.R);
+    result.direction_change_deg =
+        kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, request.prior.b_from_a.t_m);
+    return Status::ok();
+}
+
+Status PairRefiner::refine(const Request& request, Result& result) noexcept {
     result = Result{};
     if (!initialized_) {
         return Status(StatusCode::kNotInitialized, "PairRefiner::refine: init() has not succeeded");
     }
-    VTM_RETURN_IF_ERROR(checkRequest(rq));
-    result.refined = rq.prior;
-    const bool ground = rq.scene == Scene::kGround;
+    VTM_RETURN_IF_ERROR(checkRequest(request));
+    result.refined = request.prior;
     features::MatchPrediction prediction;
-    prediction.pair = rq.prior;
-    prediction.range_min_m = rq.range_min_m;
-    prediction.range_max_m = rq.range_max_m;
+    prediction.pair = request.prior;
+    prediction.range_min_m = request.range_min_m;
+    prediction.range_max_m = request.range_max_m;
     prediction.margin_px = config_.match_margin_px;
-    prediction.surface_normal_a = ground ? rq.up_a : Vec3::Zero();  // the ground plane, or fronto-parallel
+    // The ground plane for the template warp, or fronto-parallel (zero).
+    prediction.surface_normal_a = request.scene == Scene::kGround ? request.up_a : Vec3::Zero();
 
     // 1. Visibility (ground scene): A's part that B sees.
-    const std::int32_t w = rq.image_a.width();
-    const std::int32_t h = rq.image_a.height();
     ImageView<const std::uint8_t> mask{};
-    if (ground) {
-        features::VisibilityPrior prior;
-        prior.up_a = rq.up_a;
-        prior.camera_height_m = rq.camera_height_m;
-        prior.margin_px = config_.visibility_margin_px;
-        const ImageView<std::uint8_t> visible(visible_.data(), w, h);
-        VTM_RETURN_IF_ERROR(features::predictVisibility(prediction, prior, visible, result.visible_px));
-        if (result.visible_px == 0) {
-            return Status(StatusCode::kDegenerate, "refine: the prior pose says image B sees none of image A");
-        }
-        mask = visible;
-    } else {
-        result.visible_px = static_cast<std::int64_t>(w) * static_cast<std::int64_t>(h);
-    }
+    VTM_RETURN_IF_ERROR(maskVisible(request, prediction, result, mask));
 
     // 2. Features of A (inside the visible part).
-    VTM_RETURN_IF_ERROR(detector_.detect(rq.image_a, *features_, &result.detection, mask));
+    VTM_RETURN_IF_ERROR(detector_.detect(request.image_a, *features_, &result.detection, mask));
     result.features = Span<const features::Feature>(features_->items, static_cast<std::size_t>(features_->count));
 
     // 3. Guided matching into B.
-    VTM_RETURN_IF_ERROR(matcher_.match(rq.image_a, rq.image_b, *features_, prediction, *matches_, &result.matching));
+    VTM_RETURN_IF_ERROR(
+        matcher_.match(request.image_a, request.image_b, *features_, prediction, *matches_, &result.matching));
     const auto n = static_cast<std::size_t>(matches_->count);
-    for (std::int32_t i = 0; i < matches_->count; ++i) {
-        pixels_a_[static_cast<std::size_t>(i)] = matches_->items[i].pixel_a;
-        pixels_b_[static_cast<std::size_t>(i)] = matches_->items[i].pixel_b;
+    for (std::size_t i = 0U; i < n; ++i) {
+        pixels_a_[i] = matches_->items[i].pixel_a;
+        pixels_b_[i] = matches_->items[i].pixel_b;
     }
     result.matches = Span<const features::Match>(matches_->items, n);
     result.pixels_a = Span<const Vec2>(pixels_a_.data(), n);
@@ -220,22 +251,7 @@ Status PairRefiner::refine(const Request& rq, Result& result) noexcept {
     result.ranges_m = Span<const double>(ranges_.data(), n);
 
     // 4. The motion from the prior on the matches.
-    motion::MotionInput input;
-    input.pair = rq.prior;
-    input.pixels_a = result.pixels_a;
-    input.pixels_b = result.pixels_b;
-    motion::MotionConfig mc = config_.motion;
-    mc.range_min_m = rq.range_min_m;
-    mc.range_max_m = rq.range_max_m;
-    mc.rotation_prior_sigma_rad = rq.rotation_sigma_rad;
-    VTM_RETURN_IF_ERROR(refiner_->refine(input, mc, result.motion, Span<std::uint8_t>(inliers_.data(), n),
-                                         Span<double>(ranges_.data(), n)));
-    const motion::MotionResult& m = result.motion;
-    result.refined.b_from_a.R = m.R_b_from_a;
-    result.refined.b_from_a.t_m = m.t_b_from_a_m;
-    result.rotation_change_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, rq.prior.b_from_a.R);
-    result.direction_change_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, rq.prior.b_from_a.t_m);
-    return Status::ok();
+    return refineMotion(request, result);
 }
 
 }  // namespace vtm::refine

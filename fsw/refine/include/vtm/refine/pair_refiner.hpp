@@ -140,6 +140,9 @@ public:
 
 private:
     [[nodiscard]] Status checkRequest(const Request& request) const noexcept;
+    [[nodiscard]] Status maskVisible(const Request& request, const features::MatchPrediction& prediction,
+                                     Result& result, ImageView<const std::uint8_t>& mask) const noexcept;
+    [[nodiscard]] Status refineMotion(const Request& request, Result& result) noexcept;
 
     Config config_{};
     features::ForstnerDetector detector_{};
