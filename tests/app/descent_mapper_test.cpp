@@ -98,15 +98,13 @@ DescentMapperConfig smallConfig() {
     c.sweep.window = 7;  // 256 x 256: the default 11 is for 1024 x 1024 (docs/descent.md)
     c.mount = mountOf(world().frames.frames[0]);
     c.grid_cells = 128;  // cells of two pixels: the whole footprint of image 1
-    c.detector.max_width = kSize;
-    c.detector.max_height = kSize;
-    c.detector.grid_cols = 8;
-    c.detector.grid_rows = 8;
-    c.detector.per_cell = 4;
-    c.matcher.max_width = kSize;
-    c.matcher.max_height = kSize;
-    c.matcher.pyramid_levels = 1;  // a 256-px image: one halving before the coarse search
-    c.match_margin_px = 8.0;
+    c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = kSize;
+    c.refine.max_height = c.refine.detector.max_height = c.refine.matcher.max_height = kSize;
+    c.refine.detector.grid_cols = 8;
+    c.refine.detector.grid_rows = 8;
+    c.refine.detector.per_cell = 4;
+    c.refine.matcher.pyramid_levels = 1;  // a 256-px image: one halving before the coarse search
+    c.refine.match_margin_px = c.refine.visibility_margin_px = 8.0;
     return c;
 }
 
@@ -421,15 +419,20 @@ TEST_F(DescentMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     EXPECT_NE(reasonOf(bad).find("planes"), std::string::npos);
     EXPECT_EQ(DescentMapper::workspaceBytes(bad), 0U);
     bad = c;
-    bad.detector.max_width = 128;
-    EXPECT_NE(reasonOf(bad).find("detector.max_width"), std::string::npos);
+    bad.refine.detector.max_width = 128;
+    EXPECT_NE(reasonOf(bad).find("refine.detector.max_width"), std::string::npos);
     bad = c;
-    bad.motion.rotation_prior_sigma_rad = -1.0;
-    EXPECT_NE(reasonOf(bad).find("rotation_prior_sigma_rad"), std::string::npos);
+    bad.refine.max_width = bad.refine.detector.max_width = bad.refine.matcher.max_width = 128;
+    EXPECT_NE(reasonOf(bad).find("refine.max_width/max_height: must equal sweep"), std::string::npos);
+    bad = c;
+    bad.refine.motion.max_iterations = 0;
+    EXPECT_NE(reasonOf(bad).find("max_iterations"), std::string::npos);
+    bad = c;
+    bad.attitude_sigma_rad = -1.0;
+    EXPECT_NE(reasonOf(bad).find("attitude_sigma_rad"), std::string::npos);
     bad = c;
     bad.sweep.max_width = 64;
-    bad.detector.max_width = 64;
-    bad.matcher.max_width = 64;
+    bad.refine.max_width = bad.refine.detector.max_width = bad.refine.matcher.max_width = 64;
     const Status size = start(bad, DescentMapper::workspaceBytes(bad));
     EXPECT_EQ(size.code(), StatusCode::kSizeMismatch);
     EXPECT_NE(std::string(size.reason()).find("camera:"), std::string::npos);

@@ -92,10 +92,12 @@ CameraMount mountOf(const sim::ScenarioFrame& f) {
 WideBaselineMapperConfig configFor(std::int32_t size) {
     WideBaselineMapperConfig c;
     c.frame_width = c.frame_height = size;
-    c.detector.max_width = c.matcher.max_width = c.rectify.max_width = c.stereo.max_width = size;
-    c.detector.max_height = c.matcher.max_height = c.rectify.max_height = c.stereo.max_height = size;
+    c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = size;
+    c.refine.max_height = c.refine.detector.max_height = c.refine.matcher.max_height = size;
+    c.rectify.max_width = c.stereo.max_width = size;
+    c.rectify.max_height = c.stereo.max_height = size;
     c.mount = mountOf(world().frames.frames[0]);
-    c.match_margin_px = 75.0 * static_cast<double>(size) / 1024.0;
+    c.refine.match_margin_px = 75.0 * static_cast<double>(size) / 1024.0;
     c.speckle.max_region_px = 100 * size / 1024 * size / 1024;  // the same share of the image
     return c;
 }
@@ -388,8 +390,14 @@ TEST_F(WideBaselineMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     c.stereo.d_max = 128;
     named(c, "stereo.d_min");
     c = good;
-    c.matcher.max_width = kSize / 2;
-    named(c, "matcher.max_width");
+    c.refine.matcher.max_width = kSize / 2;
+    named(c, "refine.matcher.max_width");
+    c = good;
+    c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = kSize / 2;
+    named(c, "refine.max_width/max_height: must equal frame_width");
+    c = good;
+    c.attitude_sigma_rad = 4.0;
+    named(c, "attitude_sigma_rad");
     c = good;
     c.stereo.max_height = kSize / 2;
     named(c, "stereo.max_width/max_height");

@@ -13,6 +13,7 @@
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
+#include "vtm/refine/pair_refiner.hpp"
 #include "vtm/stereo/disparity_window.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 #include "vtm/terrain/ground_bound.hpp"
@@ -372,10 +373,10 @@ void hashMatches(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, featu
         h.addFloat(fs.items[i].strength);
     }
     features::MatchPrediction p;
-    p.model_a = &pair.model;
-    p.model_b = &pair.model;
-    p.R_b_from_a = R_ba;
-    p.t_b_from_a_m = t_ba;
+    p.pair.model_a = pair.model;
+    p.pair.model_b = pair.model;
+    p.pair.b_from_a.R = R_ba;
+    p.pair.b_from_a.t_m = t_ba;
     p.range_min_m = 1.0;
     p.range_max_m = 200.0;
     p.margin_px = 8.0;
@@ -399,10 +400,10 @@ void hashMotion(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, const 
     // Odometry-like error: 1.5 deg about the camera's y axis, 5 % of the baseline sideways.
     const Mat3 spoil = Quat(math::cos(0.0131), 0.0, math::sin(0.0131), 0.0).toRotationMatrix();
     motion::MotionInput in;
-    in.model_a = &pair.model;
-    in.model_b = &pair.model;
-    in.R_b_from_a = spoil * R_ba;
-    in.t_b_from_a_m = t_ba + Vec3(0.0, 0.05 * t_ba.norm(), 0.0);
+    in.pair.model_a = pair.model;
+    in.pair.model_b = pair.model;
+    in.pair.b_from_a.R = spoil * R_ba;
+    in.pair.b_from_a.t_m = t_ba + Vec3(0.0, 0.05 * t_ba.norm(), 0.0);
     in.pixels_a = Span<const Vec2>(pa, n);
     in.pixels_b = Span<const Vec2>(pb, n);
     static motion::MotionRefiner refiner;
@@ -430,10 +431,10 @@ void hashRectification(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba,
     static rectify::Rectifier rectifier;
     h.addI64(static_cast<std::int64_t>(rectifier.init(c, arena).code()));
     rectify::RectifyInput in;
-    in.model_a = &pair.model;
-    in.model_b = &pair.model;
-    in.R_b_from_a = R_ba;
-    in.t_b_from_a_m = t_ba;
+    in.pair.model_a = pair.model;
+    in.pair.model_b = pair.model;
+    in.pair.b_from_a.R = R_ba;
+    in.pair.b_from_a.t_m = t_ba;
     static rectify::RectifiedPair rp;
     h.addI64(static_cast<std::int64_t>(rectifier.compute(in, rp).code()));
     h.addDouble(rp.model_a.fx_px);
@@ -450,6 +451,53 @@ void hashRectification(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba,
         for (std::int32_t i = 0; i < WidePair::kW * WidePair::kH; ++i) {
             h.addI64(out[i]);
         }
+    }
+}
+
+// The assembled refinement (refine::PairRefiner) from the spoiled prior of hashMotion, on
+// the ground scene and on the general scene: refined pose, counts, every inlier's range.
+void hashRefine(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, Hasher& h) noexcept {
+    refine::Config c;
+    c.max_width = c.detector.max_width = c.matcher.max_width = WidePair::kW;
+    c.max_height = c.detector.max_height = c.matcher.max_height = WidePair::kH;
+    c.detector.grid_cols = 8;
+    c.detector.grid_rows = 6;
+    c.matcher.pyramid_levels = 1;
+    c.match_margin_px = 8.0;
+    static std::byte pool[2U << 20U];
+    Arena arena(pool, sizeof pool);
+    static refine::PairRefiner refiner;
+    h.addI64(static_cast<std::int64_t>(refiner.init(c, arena).code()));
+    const Mat3 spoil = Quat(math::cos(0.0131), 0.0, math::sin(0.0131), 0.0).toRotationMatrix();
+    refine::Request rq;
+    rq.prior.model_a = pair.model;
+    rq.prior.model_b = pair.model;
+    rq.prior.b_from_a.R = spoil * R_ba;
+    rq.prior.b_from_a.t_m = t_ba + Vec3(0.0, 0.05 * t_ba.norm(), 0.0);
+    rq.image_a = ImageView<const std::uint8_t>(pair.a, WidePair::kW, WidePair::kH);
+    rq.image_b = ImageView<const std::uint8_t>(pair.b, WidePair::kW, WidePair::kH);
+    rq.range_min_m = 1.0;
+    rq.range_max_m = 200.0;
+    rq.up_a = pair.pose_a.R.transpose() * Vec3(0.0, 0.0, -1.0);
+    rq.camera_height_m = 1.9;
+    static refine::Result result;
+    for (const refine::Scene scene : {refine::Scene::kGround, refine::Scene::kGeneral}) {
+        rq.scene = scene;
+        h.addI64(static_cast<std::int64_t>(refiner.refine(rq, result).code()));
+        h.addI64(result.visible_px);
+        h.addI64(static_cast<std::int64_t>(result.features.size()));
+        h.addI64(result.matching.matched);
+        h.addI64(result.motion.inliers);
+        for (std::int32_t i = 0; i < 9; ++i) {
+            h.addDouble(result.refined.b_from_a.R(i / 3, i % 3));
+        }
+        for (std::int32_t i = 0; i < 3; ++i) {
+            h.addDouble(result.refined.b_from_a.t_m[i]);
+        }
+        for (std::size_t i = 0U; i < result.ranges_m.size(); ++i) {
+            h.addDouble(result.inliers[i] != 0U ? result.ranges_m[i] : 0.0);
+        }
+        h.addDouble(result.rotation_change_deg);
     }
 }
 
@@ -535,6 +583,7 @@ std::uint64_t wideBaselineSection() noexcept {
         hashMatches(pair, R_ba, t_ba, matches, h);
         hashMotion(pair, R_ba, t_ba, matches, h);
         hashRectification(pair, R_ba, t_ba, h);
+        hashRefine(pair, R_ba, t_ba, h);
     }
     hashTerrain(h);
     return h.value();

@@ -211,10 +211,10 @@ int main(int argc, char** argv) {
         return 1;
     }
     MatchPrediction p;
-    p.model_a = &cam;
-    p.model_b = &cam;
-    p.R_b_from_a = pb_pred.R.transpose() * pa.R;
-    p.t_b_from_a_m = pb_pred.R.transpose() * (pa.t - pb_pred.t);
+    p.pair.model_a = cam;
+    p.pair.model_b = cam;
+    p.pair.b_from_a.R = pb_pred.R.transpose() * pa.R;
+    p.pair.b_from_a.t_m = pb_pred.R.transpose() * (pa.t - pb_pred.t);
     p.range_min_m = 1.0;
     p.range_max_m = 500.0;
     p.margin_px = margin_px;

@@ -29,9 +29,9 @@ int main() {
     const auto fs = std::make_unique<FeatureSet>();
     const auto out = std::make_unique<MatchSet>();
     MatchPrediction p;
-    p.model_a = &cam;
-    p.model_b = &cam;
-    p.t_b_from_a_m = Vec3(17.3 * 10.0 / cam.fx_px, 4.0 * 10.0 / cam.fy_px, 0.0);
+    p.pair.model_a = cam;
+    p.pair.model_b = cam;
+    p.pair.b_from_a.t_m = Vec3(17.3 * 10.0 / cam.fx_px, 4.0 * 10.0 / cam.fy_px, 0.0);
     p.range_min_m = 5.0;
     p.range_max_m = 40.0;
     p.margin_px = 40.0;

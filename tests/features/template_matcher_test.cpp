@@ -32,9 +32,9 @@ struct Scene {
     Image b = test::renderTexture(texture, kW, kH, kShiftX, kShiftY, kPad);
     MatchPrediction prediction() const {
         MatchPrediction p;
-        p.model_a = &cam;
-        p.model_b = &cam;
-        p.t_b_from_a_m = Vec3(kShiftX * kPlaneZ / cam.fx_px, kShiftY * kPlaneZ / cam.fy_px, 0.0);
+        p.pair.model_a = cam;
+        p.pair.model_b = cam;
+        p.pair.b_from_a.t_m = Vec3(kShiftX * kPlaneZ / cam.fx_px, kShiftY * kPlaneZ / cam.fy_px, 0.0);
         p.range_min_m = 5.0;   // the plane is at 10..11.6 m along the rays
         p.range_max_m = 40.0;
         p.margin_px = 10.0;
@@ -141,7 +141,7 @@ TEST(TemplateMatcher, DoesNotMatchOutsideThePredictedRegion) {
     EXPECT_EQ(stats.no_region + stats.low_score + stats.not_refined + stats.not_mutual, stats.attempted);
     // A region entirely outside B (a 1000 px sideways move at 5..40 m): no region at all.
     p = scene->prediction();
-    p.t_b_from_a_m = Vec3(1000.0, 0.0, 0.0);
+    p.pair.b_from_a.t_m = Vec3(1000.0, 0.0, 0.0);
     ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, p, *out, &stats).isOk());
     EXPECT_EQ(stats.no_region, stats.attempted);
     EXPECT_EQ(out->count, 0);
@@ -204,8 +204,9 @@ TEST(TemplateMatcher, BadInputsGiveTheDocumentedStatus) {
         return m.matcher.match(scene->a.view(), scene->b.view(), *fs, p, *out);
     };
     MatchPrediction p = scene->prediction();
-    p.model_b = nullptr;
-    EXPECT_EQ(run(p).code(), StatusCode::kInvalidArgument);
+    p.pair.model_b = makePinhole(128, 128, 60.0);  // not image_b's size
+    EXPECT_EQ(run(p).code(), StatusCode::kSizeMismatch);
+    EXPECT_NE(std::strstr(run(p).reason(), "pair.model_b"), nullptr);
     p = scene->prediction();
     p.range_min_m = 0.0;
     EXPECT_NE(std::strstr(run(p).reason(), "range_min_m"), nullptr);
@@ -225,7 +226,7 @@ TEST(TemplateMatcher, BadInputsGiveTheDocumentedStatus) {
               StatusCode::kSizeMismatch);
     const CameraModel small = makePinhole(128, 128, 60.0);
     p = scene->prediction();
-    p.model_a = &small;
+    p.pair.model_a = small;
     EXPECT_EQ(run(p).code(), StatusCode::kSizeMismatch);
     fs->count = kMaxFeatures + 1;
     EXPECT_EQ(run(scene->prediction()).code(), StatusCode::kInvalidArgument);

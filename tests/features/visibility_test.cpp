@@ -18,10 +18,10 @@ TEST(Visibility, LevelPairOverFlatGroundMatchesTheAnalyticFootprint) {
     constexpr std::int32_t kW = 160, kH = 120;
     const CameraModel m = makePinhole(kW, kH, 60.0);
     MatchPrediction p;
-    p.model_a = &m;
-    p.model_b = &m;
+    p.pair.model_a = m;
+    p.pair.model_b = m;
     const double b = 1.0;
-    p.t_b_from_a_m = Vec3(-b, 0.0, 0.0);  // B at A's +x: X_b = X_a - (b, 0, 0)
+    p.pair.b_from_a.t_m = Vec3(-b, 0.0, 0.0);  // B at A's +x: X_b = X_a - (b, 0, 0)
     p.range_min_m = 0.5;
     p.range_max_m = 1.0e4;
     VisibilityPrior prior;
@@ -72,9 +72,9 @@ TEST(Visibility, LevelPairOverFlatGroundMatchesTheAnalyticFootprint) {
 TEST(Visibility, BadInputsAreNamed) {
     const CameraModel m = makePinhole(64, 48, 60.0);
     MatchPrediction p;
-    p.model_a = &m;
-    p.model_b = &m;
-    p.t_b_from_a_m = Vec3(-1.0, 0.0, 0.0);
+    p.pair.model_a = m;
+    p.pair.model_b = m;
+    p.pair.b_from_a.t_m = Vec3(-1.0, 0.0, 0.0);
     VisibilityPrior prior;
     prior.up_a = Vec3(0.0, -1.0, 0.0);
     std::vector<std::uint8_t> mask(64 * 48);
@@ -91,9 +91,9 @@ TEST(Visibility, BadInputsAreNamed) {
     EXPECT_NE(std::strstr(predictVisibility(p, bad, view, visible).reason(), "stride_px"), nullptr);
     EXPECT_EQ(predictVisibility(p, prior, ImageView<std::uint8_t>(mask.data(), 32, 48), visible).code(),
               StatusCode::kSizeMismatch);
-    MatchPrediction nul = p;
-    nul.model_b = nullptr;
-    EXPECT_EQ(predictVisibility(nul, prior, view, visible).code(), StatusCode::kInvalidArgument);
+    MatchPrediction other = p;  // the mask must be pair.model_a's size
+    other.pair.model_a = makePinhole(32, 48, 60.0);
+    EXPECT_EQ(predictVisibility(other, prior, view, visible).code(), StatusCode::kSizeMismatch);
 }
 
 TEST(Visibility, DetectorKeepsFeaturesInsideTheMask) {

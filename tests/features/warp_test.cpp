@@ -88,10 +88,10 @@ struct GroundScene {
     }
     MatchPrediction prediction(bool normal_known) const {
         MatchPrediction p;
-        p.model_a = &cam;
-        p.model_b = &cam;
-        p.R_b_from_a = R_b_from_a;
-        p.t_b_from_a_m = t_b_from_a_m;
+        p.pair.model_a = cam;
+        p.pair.model_b = cam;
+        p.pair.b_from_a.R = R_b_from_a;
+        p.pair.b_from_a.t_m = t_b_from_a_m;
         p.range_min_m = 1.0;
         p.range_max_m = 30.0;
         p.margin_px = 6.0;

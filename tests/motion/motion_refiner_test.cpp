@@ -193,10 +193,10 @@ Scene makeScene(const CameraModel& model, const SceneSpec& spec) {
 
 MotionInput inputOf(const Scene& s) {
     MotionInput in;
-    in.model_a = &s.model;
-    in.model_b = &s.model;
-    in.R_b_from_a = s.R_init;
-    in.t_b_from_a_m = s.t_init;
+    in.pair.model_a = s.model;
+    in.pair.model_b = s.model;
+    in.pair.b_from_a.R = s.R_init;
+    in.pair.b_from_a.t_m = s.t_init;
     in.pixels_a = Span<const Vec2>(s.pixels_a.data(), s.pixels_a.size());
     in.pixels_b = Span<const Vec2>(s.pixels_b.data(), s.pixels_b.size());
     return in;
@@ -503,25 +503,19 @@ TEST(MotionRefiner, BadInputsAreRefusedWithTheirReason) {
     };
     std::vector<Case> cases;
     MotionInput in = inputOf(s);
-    in.model_a = nullptr;
-    cases.push_back({"null model_a", in, StatusCode::kInvalidArgument, "model_a: null"});
-    in = inputOf(s);
-    in.model_b = nullptr;
-    cases.push_back({"null model_b", in, StatusCode::kInvalidArgument, "model_b: null"});
-    in = inputOf(s);
     in.pixels_b = Span<const Vec2>(s.pixels_b.data(), s.pixels_b.size() - 1U);
     cases.push_back({"spans differ", in, StatusCode::kInvalidArgument, "pixels_b: size differs from pixels_a"});
     in = inputOf(s);
-    in.t_b_from_a_m = Vec3::Zero();
+    in.pair.b_from_a.t_m = Vec3::Zero();
     cases.push_back({"zero baseline", in, StatusCode::kInvalidArgument,
-                     "t_b_from_a_m: zero baseline (direction undefined)"});
+                     "pair.b_from_a.t_m: zero baseline (direction undefined)"});
     in = inputOf(s);
-    in.t_b_from_a_m.x() = std::nan("");
-    cases.push_back({"NaN t", in, StatusCode::kInvalidArgument, "t_b_from_a_m: not finite"});
+    in.pair.b_from_a.t_m.x() = std::nan("");
+    cases.push_back({"NaN t", in, StatusCode::kInvalidArgument, "pair.b_from_a.t_m: not finite"});
     in = inputOf(s);
-    in.R_b_from_a(0, 0) = 1.5;
+    in.pair.b_from_a.R(0, 0) = 1.5;
     cases.push_back({"not a rotation", in, StatusCode::kInvalidArgument,
-                     "R_b_from_a: not a finite rotation (within 1e-6)"});
+                     "pair.b_from_a.R: not a finite rotation (within 1e-6)"});
     in = inputOf(s);
     in.pixels_a = Span<const Vec2>(s.pixels_a.data(), 10U);
     in.pixels_b = Span<const Vec2>(s.pixels_b.data(), 10U);
@@ -557,11 +551,13 @@ TEST(MotionRefiner, NonFinitePixelTooManyMatchesAndBadModelAreNamed) {
 
     CameraModel broken = pinhole();
     broken.fx_px = -1.0;
-    in = inputOf(s);
-    in.model_b = &broken;
-    st = refiner().refine(in, MotionConfig{}, result);
-    EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
-    EXPECT_NE(std::string(st.reason()).find("fx"), std::string::npos) << st.reason();
+    for (int side = 0; side < 2; ++side) {
+        in = inputOf(s);
+        (side == 0 ? in.pair.model_a : in.pair.model_b) = broken;
+        st = refiner().refine(in, MotionConfig{}, result);
+        EXPECT_EQ(st.code(), StatusCode::kInvalidArgument) << side;
+        EXPECT_NE(std::string(st.reason()).find("fx"), std::string::npos) << st.reason();
+    }
 
     std::vector<std::uint8_t> flags(5U);
     s.pixels_b[17].y() = 100.0;

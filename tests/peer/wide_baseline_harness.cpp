@@ -12,10 +12,8 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 
-#include "vtm/features/forstner.hpp"
-#include "vtm/features/template_matcher.hpp"
-#include "vtm/features/visibility.hpp"
 #include "vtm/motion/motion_refiner.hpp"
+#include "vtm/refine/pair_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
@@ -499,96 +497,17 @@ TrueLineCeiling bestNccOnTrueLine(const RenderedPair& pair, const std::vector<Ve
 
 namespace {
 
-// Förstner features of A (default DetectorConfig at the image's size), on the part of A
-// that B sees according to the odometry and the ground-plane prior (spec).
-Status detectFeatures(const RenderedPair& pair, const RelativePose& odometry, const FrontEndSpec& spec,
-                      features::FeatureSet& feats, FrontEndResult& r) {
-    features::DetectorConfig dc;
-    dc.max_width = pair.width;
-    dc.max_height = pair.height;
-    std::vector<std::uint8_t> mask;
-    ImageView<const std::uint8_t> mask_view;
-    if (spec.camera_height_m > 0.0) {
-        features::MatchPrediction pred;
-        pred.model_a = &pair.model;
-        pred.model_b = &pair.model;
-        pred.R_b_from_a = odometry.R_b_from_a;
-        pred.t_b_from_a_m = odometry.t_b_from_a_m;
-        pred.range_min_m = spec.range_min_m;
-        pred.range_max_m = spec.range_max_m;
-        features::VisibilityPrior prior;
-        prior.up_a = pair.pose_a.R.transpose() * Vec3(0.0, 0.0, -1.0);
-        prior.camera_height_m = spec.camera_height_m;
-        mask.assign(static_cast<std::size_t>(pair.width) * static_cast<std::size_t>(pair.height), 0U);
-        std::int64_t visible = 0;
-        VTM_RETURN_IF_ERROR(features::predictVisibility(
-            pred, prior, ImageView<std::uint8_t>(mask.data(), pair.width, pair.height), visible));
-        mask_view = ImageView<const std::uint8_t>(mask.data(), pair.width, pair.height);
-    }
-    std::vector<std::byte> pool(features::ForstnerDetector::workspaceBytes(dc) + 64U);
-    Arena arena(pool.data(), pool.size());
-    auto detector = std::make_unique<features::ForstnerDetector>();
-    VTM_RETURN_IF_ERROR(detector->init(dc, arena));
-    const auto t0 = std::chrono::steady_clock::now();
-    const Status st =
-        detector->detect(ImageView<const std::uint8_t>(pair.image_a.data(), pair.width, pair.height), feats, nullptr,
-                         mask_view);
-    r.seconds_detect = secondsSince(t0);
-    r.features = feats.count;
-    for (std::int32_t i = 0; i < feats.count; ++i) {
-        r.feature_pixels.push_back(feats.items[i].pixel);
-    }
-    return st;
-}
-
-// Guided NCC matching of A's features into B (prediction from the odometry pose), with
-// each match's error against the truth.
-Status matchFeatures(const RenderedPair& pair, const RelativePose& odometry, const FrontEndSpec& spec,
-                     const features::FeatureSet& feats, FrontEndResult& r) {
-    const ImageView<const std::uint8_t> ia(pair.image_a.data(), pair.width, pair.height);
-    const ImageView<const std::uint8_t> ib(pair.image_b.data(), pair.width, pair.height);
-    features::MatcherConfig mc;
-    mc.max_width = pair.width;
-    mc.max_height = pair.height;
-    mc.min_score = spec.min_score;
-    mc.template_window = spec.template_window;
-    mc.pyramid_levels = spec.pyramid_levels;
-    std::vector<std::byte> mpool(features::TemplateMatcher::workspaceBytes(mc) + 64U);
-    Arena marena(mpool.data(), mpool.size());
-    auto matcher = std::make_unique<features::TemplateMatcher>();
-    auto matches = std::make_unique<features::MatchSet>();
-    features::MatchPrediction pred;
-    pred.model_a = &pair.model;
-    pred.model_b = &pair.model;
-    pred.R_b_from_a = odometry.R_b_from_a;
-    pred.t_b_from_a_m = odometry.t_b_from_a_m;
-    pred.range_min_m = spec.range_min_m;
-    pred.range_max_m = spec.range_max_m;
-    // Local terrain normal for the template warp: the site's "up" (-z) in A's frame, from
-    // A's attitude (the odometry errors are applied to B; a rover knows its tilt well).
-    pred.surface_normal_a = spec.use_surface_normal
-                                ? Vec3(pair.pose_a.R.transpose() * Vec3(0.0, 0.0, -1.0))
-                                : Vec3(Vec3::Zero());
-    // Odometry error bound (2 deg heading + 0.3 deg tilt) seen at the focal length, with
-    // 50 % margin, unless given.
-    pred.margin_px = spec.margin_px > 0.0 ? spec.margin_px : 1.5 * pair.model.fx_px * 2.3 * kDeg;
-    Status st = matcher->init(mc, marena);
-    auto t0 = std::chrono::steady_clock::now();
-    if (st.isOk()) {
-        st = matcher->match(ia, ib, feats, pred, *matches, &r.match_stats);
-    }
-    r.seconds_match = secondsSince(t0);
-    VTM_RETURN_IF_ERROR(st);
+// Each match's error against the truth (A's pixel's true point visible in B).
+void scoreMatches(const RenderedPair& pair, const refine::Result& res, FrontEndResult& r) {
     std::vector<double> errs;
-    r.matches = matches->count;
-    for (std::int32_t i = 0; i < matches->count; ++i) {
-        const features::Match& m = matches->items[i];
-        r.pixels_a.push_back(m.pixel_a);
-        r.pixels_b.push_back(m.pixel_b);
+    r.matches = static_cast<std::int32_t>(res.pixels_a.size());
+    for (std::size_t i = 0; i < res.pixels_a.size(); ++i) {
+        r.pixels_a.push_back(res.pixels_a[i]);
+        r.pixels_b.push_back(res.pixels_b[i]);
         Vec2 truth_b;
         bool correct = false;
-        if (truthMatch(pair, m.pixel_a, truth_b, true)) {
-            const double e = (truth_b - m.pixel_b).norm();
+        if (truthMatch(pair, res.pixels_a[i], truth_b, true)) {
+            const double e = (truth_b - res.pixels_b[i]).norm();
             errs.push_back(e);
             correct = e <= kCorrectMatch_px;
             r.correct_matches += correct ? 1 : 0;
@@ -597,35 +516,76 @@ Status matchFeatures(const RenderedPair& pair, const RelativePose& odometry, con
         r.truth_b.push_back(correct ? truth_b : Vec2::Constant(NAN));
     }
     r.match_error_median_px = median(errs);
-    return Status::ok();
 }
 
 }  // namespace
 
+refine::Config frontEndConfig(const RenderedPair& pair, const FrontEndSpec& spec) {
+    refine::Config c;
+    c.max_width = c.detector.max_width = c.matcher.max_width = pair.width;
+    c.max_height = c.detector.max_height = c.matcher.max_height = pair.height;
+    c.matcher.min_score = spec.min_score;
+    c.matcher.template_window = spec.template_window;
+    c.matcher.pyramid_levels = spec.pyramid_levels;
+    // Odometry error bound (2 deg heading + 0.3 deg tilt) seen at the focal length, with
+    // 50 % margin, unless given.
+    c.match_margin_px = spec.margin_px > 0.0 ? spec.margin_px : 1.5 * pair.model.fx_px * 2.3 * kDeg;
+    return c;
+}
+
+refine::Request frontEndRequest(const RenderedPair& pair, const RelativePose& odometry, const FrontEndSpec& spec) {
+    refine::Request rq;
+    rq.prior.model_a = pair.model;
+    rq.prior.model_b = pair.model;
+    rq.prior.b_from_a.R = odometry.R_b_from_a;
+    rq.prior.b_from_a.t_m = odometry.t_b_from_a_m;
+    rq.image_a = ImageView<const std::uint8_t>(pair.image_a.data(), pair.width, pair.height);
+    rq.image_b = ImageView<const std::uint8_t>(pair.image_b.data(), pair.width, pair.height);
+    rq.range_min_m = spec.range_min_m;
+    rq.range_max_m = spec.range_max_m;
+    if (spec.camera_height_m > 0.0) {
+        // The site's "up" (-z) in A's frame, from A's attitude (the odometry errors are
+        // applied to B; a rover knows its tilt well): ground plane of the visibility mask
+        // and of the template warp.
+        rq.scene = refine::Scene::kGround;
+        rq.up_a = pair.pose_a.R.transpose() * Vec3(0.0, 0.0, -1.0);
+        rq.camera_height_m = spec.camera_height_m;
+    } else {
+        rq.scene = refine::Scene::kGeneral;
+    }
+    return rq;
+}
+
 FrontEndResult runVtmFrontEnd(const RenderedPair& pair, const RelativePose& odometry, const FrontEndSpec& spec) {
     FrontEndResult r;
-    auto feats = std::make_unique<features::FeatureSet>();
-    const Status st = detectFeatures(pair, odometry, spec, *feats, r);
+    const refine::Config config = frontEndConfig(pair, spec);
+    std::vector<std::byte> pool(refine::PairRefiner::workspaceBytes(config));
+    Arena arena(pool.data(), pool.size());
+    auto refiner = std::make_unique<refine::PairRefiner>();
+    Status st = refiner->init(config, arena);
     if (!st.isOk()) {
-        r.error = std::string("detect: ") + st.reason();
+        r.error = std::string("PairRefiner::init: ") + st.reason();
         return r;
     }
-    const Status match_status = matchFeatures(pair, odometry, spec, *feats, r);
-    if (!match_status.isOk()) {
-        r.error = std::string("match: ") + match_status.reason();
-        return r;
-    }
+    auto res = std::make_unique<refine::Result>();
     const auto t0 = std::chrono::steady_clock::now();
-    const RefineResult rr = refinePose(pair, odometry, r.pixels_a, r.pixels_b);
-    r.seconds_refine = secondsSince(t0);
-    if (!rr.ok) {
-        r.error = rr.error;
+    st = refiner->refine(frontEndRequest(pair, odometry, spec), *res);
+    r.seconds = secondsSince(t0);
+    r.features = static_cast<std::int32_t>(res->features.size());
+    for (const features::Feature& f : res->features) {
+        r.feature_pixels.push_back(f.pixel);
+    }
+    r.match_stats = res->matching;
+    scoreMatches(pair, *res, r);
+    if (!st.isOk()) {
+        r.error = std::string("PairRefiner::refine: ") + st.reason();
         return r;
     }
-    r.inliers = rr.inliers;
-    r.refine_rms_px = rr.rms_px;
-    r.refine_epipolar_sigma_px = rr.epipolar_sigma_px;
-    r.refined = rr.pose;
+    r.inliers = res->motion.inliers;
+    r.refine_rms_px = res->motion.rms_px;
+    r.refine_epipolar_sigma_px = res->motion.epipolar_sigma_px;
+    r.refined.R_b_from_a = res->refined.b_from_a.R;
+    r.refined.t_b_from_a_m = res->refined.b_from_a.t_m;
     r.ok = true;
     return r;
 }
@@ -634,10 +594,10 @@ RefineResult refinePose(const RenderedPair& pair, const RelativePose& odometry, 
                         const std::vector<Vec2>& pixels_b) {
     RefineResult r;
     motion::MotionInput in;
-    in.model_a = &pair.model;
-    in.model_b = &pair.model;
-    in.R_b_from_a = odometry.R_b_from_a;
-    in.t_b_from_a_m = odometry.t_b_from_a_m;
+    in.pair.model_a = pair.model;
+    in.pair.model_b = pair.model;
+    in.pair.b_from_a.R = odometry.R_b_from_a;
+    in.pair.b_from_a.t_m = odometry.t_b_from_a_m;
     in.pixels_a = Span<const Vec2>(pixels_a.data(), pixels_a.size());
     in.pixels_b = Span<const Vec2>(pixels_b.data(), pixels_b.size());
     const motion::MotionConfig cfg;
@@ -720,10 +680,10 @@ VerticalDisparity vtmVerticalDisparity(const RenderedPair& pair, const RelativeP
     auto rectifier = std::make_unique<rectify::Rectifier>();
     rectify::RectifiedPair out;
     rectify::RectifyInput in;
-    in.model_a = &pair.model;
-    in.model_b = &pair.model;
-    in.R_b_from_a = pose.R_b_from_a;
-    in.t_b_from_a_m = pose.t_b_from_a_m;
+    in.pair.model_a = pair.model;
+    in.pair.model_b = pair.model;
+    in.pair.b_from_a.R = pose.R_b_from_a;
+    in.pair.b_from_a.t_m = pose.t_b_from_a_m;
     Status st = rectifier->init(cfg, arena);
     if (st.isOk()) {
         st = rectifier->compute(in, out);
@@ -786,10 +746,10 @@ struct ChainImages {
 Status rectifyAndMatch(const RenderedPair& pair, const RelativePose& refined, rectify::Rectifier& rectifier,
                        rectify::RectifiedPair& rp, ChainImages& im, ChainResult& r) {
     rectify::RectifyInput in;
-    in.model_a = &pair.model;
-    in.model_b = &pair.model;
-    in.R_b_from_a = refined.R_b_from_a;
-    in.t_b_from_a_m = refined.t_b_from_a_m;
+    in.pair.model_a = pair.model;
+    in.pair.model_b = pair.model;
+    in.pair.b_from_a.R = refined.R_b_from_a;
+    in.pair.b_from_a.t_m = refined.t_b_from_a_m;
     auto t0 = std::chrono::steady_clock::now();
     VTM_RETURN_IF_ERROR(rectifier.compute(in, rp));
     im.w = rp.model_a.width_px;

@@ -6,7 +6,8 @@
 //    rendered mast-camera pairs (frame 0 = A, frame 1 = B) with per-pixel truth;
 //  - the true relative pose and an odometry pose with controlled, seeded errors;
 //  - true correspondences (A pixel with a truth 3-D point, visible and not occluded in B);
-//  - the VTM front end (Förstner -> guided NCC matching -> MotionRefiner), the VTM
+//  - the VTM front end (refine::PairRefiner, the flight module: visibility -> Förstner ->
+//    guided NCC matching -> MotionRefiner), the VTM
 //    rectification (Rectifier) and the OpenCV peers (findEssentialMat + recoverPose,
 //    stereoRectify + undistortPoints) on the same inputs;
 //  - the full chain (refine, rectify, remap, ML stereo, triangulate) against true range.
@@ -25,6 +26,7 @@
 #include "sim/scenario.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/features/template_matcher.hpp"
+#include "vtm/refine/pair_refiner.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/eigen.hpp"
@@ -165,7 +167,7 @@ struct FrontEndResult {
     RelativePose refined{};
     double refine_rms_px = 0.0;
     double refine_epipolar_sigma_px = 0.0;  // MotionResult::epipolar_sigma_px
-    double seconds_detect = 0.0, seconds_match = 0.0, seconds_refine = 0.0;
+    double seconds = 0.0;  // PairRefiner::refine: detect + match + refine
 };
 struct FrontEndSpec {
     double range_min_m = 1.5;
@@ -174,11 +176,18 @@ struct FrontEndSpec {
     float min_score = 0.8f;          // MatcherConfig::min_score
     std::int32_t template_window = 11;  // MatcherConfig::template_window
     std::int32_t pyramid_levels = 2;    // MatcherConfig::pyramid_levels
-    bool use_surface_normal = true;     // MatchPrediction::surface_normal_a = site up in A (else zero)
-    // Features only where B sees A by the odometry and a ground plane this far below the
-    // camera (features::predictVisibility); 0: everywhere.
+    // > 0: the ground scene (refine::Scene::kGround): features only where B sees A by the
+    // odometry and a ground plane this far below the camera, templates warped for that
+    // plane (site up in A). 0: the general scene (features everywhere, fronto-parallel).
     double camera_height_m = 1.9;
 };
+// The spec as the flight module's configuration (default refine::Config at the image's
+// size, the spec's matcher fields and margin) and request (odometry prior, no rotation
+// prior, the spec's range interval for the matching and the refiner).
+[[nodiscard]] refine::Config frontEndConfig(const RenderedPair& pair, const FrontEndSpec& spec);
+[[nodiscard]] refine::Request frontEndRequest(const RenderedPair& pair, const RelativePose& odometry,
+                                              const FrontEndSpec& spec);
+// refine::PairRefiner on the pair, each match scored against the truth.
 [[nodiscard]] FrontEndResult runVtmFrontEnd(const RenderedPair& pair, const RelativePose& odometry,
                                             const FrontEndSpec& spec);
 

@@ -118,18 +118,18 @@ Scene makeScene(Kind kind, double baseline_m, double convergence_deg, double sid
     if (kind == Kind::kBrown) {
         s.a = pa;
         s.b = pb;
-        s.input.R_b_from_a = s.R_b_w * s.R_a_w.transpose();
-        s.input.t_b_from_a_m = s.R_b_w * (s.c_a_w - s.c_b_w);
+        s.input.pair.b_from_a.R = s.R_b_w * s.R_a_w.transpose();
+        s.input.pair.b_from_a.t_m = s.R_b_w * (s.c_a_w - s.c_b_w);
     } else {
         s.R_rover = rotation(Vec3(0.2, 1.0, 0.1), 30.0);
         s.t_rover = Vec3(1.0, 2.0, -0.5);
         s.a = cahvor(pa, s.R_a_w, s.c_a_w, Mat3::Identity(), Vec3::Zero());
         s.b = cahvor(pb, s.R_b_w, s.c_b_w, s.R_rover, s.t_rover);
-        s.input.R_b_from_a = s.R_rover;
-        s.input.t_b_from_a_m = s.t_rover;
+        s.input.pair.b_from_a.R = s.R_rover;
+        s.input.pair.b_from_a.t_m = s.t_rover;
     }
-    s.input.model_a = &s.a;
-    s.input.model_b = &s.b;
+    s.input.pair.model_a = s.a;
+    s.input.pair.model_b = s.b;
     return s;
 }
 
@@ -413,8 +413,7 @@ TEST(Rectifier, PublishesCameraACentreInItsReferenceFrame) {
         const Vec3 c_true = kind == Kind::kBrown ? Vec3::Zero() : Vec3(0.3, -0.2, 0.1);
         if (kind == Kind::kCahvor) {
             put(s.a.c, c_true);
-            s.input.model_a = &s.a;
-            s.input.model_b = &s.b;
+            s.input.pair.model_a = s.a;
         }
         Harness h(smallConfig(2.0, 100.0));
         RectifiedPair pair;
@@ -562,9 +561,9 @@ TEST(Rectifier, FractionBitsFollowTheInputSize) {
     for (std::uint16_t side : {std::uint16_t{1022}, std::uint16_t{1023}, std::uint16_t{2046}, std::uint16_t{2047}}) {
         CameraModel m = makePinhole(side, 48, 60.0);
         RectifyInput in;
-        in.model_a = &m;
-        in.model_b = &m;
-        in.t_b_from_a_m = Vec3(-0.5, 0.0, 0.0);
+        in.pair.model_a = m;
+        in.pair.model_b = m;
+        in.pair.b_from_a.t_m = Vec3(-0.5, 0.0, 0.0);
         RectifiedPair pair;
         ASSERT_TRUE(h.rect.compute(in, pair).isOk());
         const int expected = side <= 1022 ? 5 : (side <= 2046 ? 4 : 3);
@@ -627,37 +626,35 @@ TEST(Rectifier, BadInputsGiveDocumentedStatus) {
     EXPECT_EQ(h.rect.rectifyPixel(Rectifier::Side::kA, Vec2(1, 1), p).code(), StatusCode::kNotInitialized);
 
     RectifyInput in = s.input;
-    in.model_b = nullptr;
-    EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kInvalidArgument);
     CameraModel bad = s.b;
     bad.fx_px = -1.0;
     in = s.input;
-    in.model_b = &bad;
+    in.pair.model_b = bad;
     EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kInvalidArgument);
     in = s.input;
-    in.R_b_from_a(0, 0) += 1e-6;
+    in.pair.b_from_a.R(0, 0) += 1e-6;
     EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kInvalidArgument);
     in = s.input;
-    in.R_b_from_a = -Mat3::Identity();  // orthonormal but a reflection
+    in.pair.b_from_a.R = -Mat3::Identity();  // orthonormal but a reflection
     EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kInvalidArgument);
     in = s.input;
-    in.t_b_from_a_m.y() = std::nan("");
+    in.pair.b_from_a.t_m.y() = std::nan("");
     EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kInvalidArgument);
 
     // Zero baseline; baseline along A's optical axis (a forward drive).
     const CameraModel pin = brown(1.0);
     in = RectifyInput{};
-    in.model_a = &pin;
-    in.model_b = &pin;
+    in.pair.model_a = pin;
+    in.pair.model_b = pin;
     EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kDegenerate);
-    in.t_b_from_a_m = Vec3(0.3, 0.0, -1.0);  // B 1 m ahead, 0.3 m aside: 17 deg off the axis
+    in.pair.b_from_a.t_m = Vec3(0.3, 0.0, -1.0);  // B 1 m ahead, 0.3 m aside: 17 deg off the axis
     EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kDegenerate);
-    in.t_b_from_a_m = Vec3(-1.0, 0.0, -1.0);  // 45 deg: allowed by the default 30 deg
+    in.pair.b_from_a.t_m = Vec3(-1.0, 0.0, -1.0);  // 45 deg: allowed by the default 30 deg
     EXPECT_TRUE(h.rect.compute(in, pair).isOk());
 
     // Rectified size above the capacity.
     const CameraModel big = makePinhole(640, 240, 60.0);
-    in.model_a = &big;
+    in.pair.model_a = big;
     EXPECT_EQ(h.rect.compute(in, pair).code(), StatusCode::kSizeMismatch);
     // After a failed compute the maps answer kNotInitialized.
     EXPECT_EQ(h.rect.unrectifyPixel(Rectifier::Side::kB, Vec2(1, 1), p).code(), StatusCode::kNotInitialized);

@@ -320,10 +320,10 @@ TEST(RectifiedGeometryOf, SitePointsComeBackThroughTheRectifiedPairOfCahvCameras
     static rectify::Rectifier rectifier;
     ASSERT_TRUE(rectifier.init(config, arena).isOk());
     rectify::RectifyInput in;
-    in.model_a = &a;
-    in.model_b = &b;
-    in.R_b_from_a = R_b_from_a;
-    in.t_b_from_a_m = t_b_from_a;
+    in.pair.model_a = a;
+    in.pair.model_b = b;
+    in.pair.b_from_a.R = R_b_from_a;
+    in.pair.b_from_a.t_m = t_b_from_a;
     rectify::RectifiedPair pair;
     ASSERT_TRUE(rectifier.compute(in, pair).isOk());
     RigidPose site_from_a;

@@ -105,15 +105,15 @@ app::DescentMapperConfig configFor(const World& w) {
     app::DescentMapperConfig c;
     const std::int32_t width = f.model.width_px;
     const std::int32_t height = f.model.height_px;
-    c.sweep.max_width = c.detector.max_width = c.matcher.max_width = width;
-    c.sweep.max_height = c.detector.max_height = c.matcher.max_height = height;
+    c.sweep.max_width = c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = width;
+    c.sweep.max_height = c.refine.max_height = c.refine.detector.max_height = c.refine.matcher.max_height = height;
     if (std::max(width, height) < 512) {
         c.sweep.window = 7;
         c.sweep.planes = 32;
-        c.matcher.pyramid_levels = 1;
-        c.detector.grid_cols = c.detector.grid_rows = 8;
-        c.detector.per_cell = 4;
-        c.match_margin_px = 8.0;
+        c.refine.matcher.pyramid_levels = 1;
+        c.refine.detector.grid_cols = c.refine.detector.grid_rows = 8;
+        c.refine.detector.per_cell = 4;
+        c.refine.match_margin_px = c.refine.visibility_margin_px = 8.0;
     }
     c.grid_cells = std::max<std::int32_t>(16, std::max(width, height) / 2);  // cells of two pixels: the footprint
     c.mount = cameraMountOf(f);  // the calibration: the simulator's camera pose in its vehicle frame

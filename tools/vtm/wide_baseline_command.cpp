@@ -21,6 +21,7 @@
 #include "vtm/ground/sim_output.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
+#include "vtm/refine/pair_refiner.hpp"
 
 namespace vtm::tools {
 namespace {
@@ -121,94 +122,49 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 // ---- vtm refine ----------------------------------------------------------------------
 
 struct RefineRun {
-    std::unique_ptr<features::FeatureSet> features = std::make_unique<features::FeatureSet>();
-    std::unique_ptr<features::MatchSet> matches = std::make_unique<features::MatchSet>();
-    features::DetectorStats detector_stats;
-    features::MatchStats match_stats;
-    motion::MotionResult result;
-    std::vector<std::uint8_t> inlier;
-    std::vector<double> range_m;  // refined range of each match along camera 1's ray (NaN: outlier)
-    double detect_s = 0.0;
-    double match_s = 0.0;
-    double refine_s = 0.0;
+    std::vector<std::byte> pool;  // the refiner's arena (the result's spans point into it)
+    std::unique_ptr<Arena> arena;
+    std::unique_ptr<refine::PairRefiner> refiner = std::make_unique<refine::PairRefiner>();
+    refine::Result result;
+    double seconds = 0.0;
 };
 
-std::string detectAndMatch(const WideBaselineOptions& o, const PairInputs& in, RefineRun& run) {
-    features::DetectorConfig dc;
-    dc.max_width = in.image1.width;
-    dc.max_height = in.image1.height;
-    features::MatcherConfig mc;
-    mc.max_width = std::max(in.image1.width, in.image2.width);
-    mc.max_height = std::max(in.image1.height, in.image2.height);
-    std::vector<std::byte> pool(features::ForstnerDetector::workspaceBytes(dc) +
-                                features::TemplateMatcher::workspaceBytes(mc));
-    Arena arena(pool.data(), pool.size());
-    features::ForstnerDetector detector;
-    features::TemplateMatcher matcher;
-    Status s = detector.init(dc, arena);
-    if (!s.isOk()) return statusText("ForstnerDetector::init", s);
-    s = matcher.init(mc, arena);
-    if (!s.isOk()) return statusText("TemplateMatcher::init", s);
-    features::MatchPrediction p;
-    p.model_a = &in.model1;
-    p.model_b = &in.model2;
-    p.R_b_from_a = in.R_2_from_1;
-    p.t_b_from_a_m = in.t_2_from_1_m;
-    p.range_min_m = in.range_min_m;
-    p.range_max_m = in.range_max_m;
-    p.margin_px = o.margin_px;
-    // The site's up (-z) seen from camera 1 (its attitude is known far better than its
-    // position): the local terrain's normal for the template warp, and the ground plane of
-    // the visibility mask.
-    p.surface_normal_a = ground::siteFromCam(in.pose1).R.transpose() * Vec3(0.0, 0.0, -1.0);
-    GreyImage mask;
+// refine::PairRefiner, the flight module the executives run: the ground scene when
+// --mast-height is given (> 0: visibility mask and templates warped for the ground plane
+// under camera 1), the general scene otherwise (features anywhere, fronto-parallel
+// templates). Default refine::Config at the images' size; the motion's range limits are
+// the --range interval.
+std::string refinePair(const WideBaselineOptions& o, const PairInputs& in, RefineRun& run) {
+    refine::Config c;
+    c.max_width = c.detector.max_width = c.matcher.max_width = std::max(in.image1.width, in.image2.width);
+    c.max_height = c.detector.max_height = c.matcher.max_height = std::max(in.image1.height, in.image2.height);
+    c.match_margin_px = o.margin_px;
+    run.pool.assign(refine::PairRefiner::workspaceBytes(c), std::byte{0});
+    run.arena = std::make_unique<Arena>(run.pool.data(), run.pool.size());
+    Status s = run.refiner->init(c, *run.arena);
+    if (!s.isOk()) return statusText("PairRefiner::init", s);
+    refine::Request rq;
+    rq.prior.model_a = in.model1;
+    rq.prior.model_b = in.model2;
+    rq.prior.b_from_a.R = in.R_2_from_1;
+    rq.prior.b_from_a.t_m = in.t_2_from_1_m;
+    rq.image_a = in.image1.view();
+    rq.image_b = in.image2.view();
+    rq.range_min_m = in.range_min_m;
+    rq.range_max_m = in.range_max_m;
     if (o.mast_height_m > 0.0) {
-        mask = GreyImage(in.image1.width, in.image1.height);
-        features::VisibilityPrior prior;
-        prior.up_a = p.surface_normal_a;
-        prior.camera_height_m = o.mast_height_m;
-        std::int64_t visible = 0;
-        s = features::predictVisibility(p, prior, mask.view(), visible);
-        if (!s.isOk()) return statusText("predictVisibility", s);
-        if (visible == 0) return "camera 2 sees no part of image 1 according to the poses and --mast-height";
+        // The site's up (-z) seen from camera 1 (its attitude is known far better than its
+        // position): the ground plane of the visibility mask and of the template warp.
+        rq.scene = refine::Scene::kGround;
+        rq.up_a = ground::siteFromCam(in.pose1).R.transpose() * Vec3(0.0, 0.0, -1.0);
+        rq.camera_height_m = o.mast_height_m;
+    } else {
+        rq.scene = refine::Scene::kGeneral;
     }
-    auto t0 = std::chrono::steady_clock::now();
-    s = detector.detect(in.image1.view(), *run.features, &run.detector_stats,
-                        mask.pixels.empty() ? ImageView<const std::uint8_t>() : mask.view());
-    run.detect_s = seconds(t0);
-    if (!s.isOk()) return statusText("ForstnerDetector::detect", s);
-    t0 = std::chrono::steady_clock::now();
-    s = matcher.match(in.image1.view(), in.image2.view(), *run.features, p, *run.matches, &run.match_stats);
-    run.match_s = seconds(t0);
-    return s.isOk() ? "" : statusText("TemplateMatcher::match", s);
-}
-
-std::string refineMotion(const PairInputs& in, RefineRun& run) {
-    const std::size_t n = static_cast<std::size_t>(run.matches->count);
-    std::vector<Vec2> pa(n);
-    std::vector<Vec2> pb(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        pa[i] = run.matches->items[i].pixel_a;
-        pb[i] = run.matches->items[i].pixel_b;
-    }
-    run.inlier.assign(n, 0U);
-    run.range_m.assign(n, std::nan(""));
-    motion::MotionInput mi;
-    mi.model_a = &in.model1;
-    mi.model_b = &in.model2;
-    mi.R_b_from_a = in.R_2_from_1;
-    mi.t_b_from_a_m = in.t_2_from_1_m;
-    mi.pixels_a = Span<const Vec2>(pa.data(), n);
-    mi.pixels_b = Span<const Vec2>(pb.data(), n);
-    motion::MotionConfig mc;
-    mc.range_min_m = std::min(in.range_min_m, mc.range_min_m);
-    mc.range_max_m = std::max(in.range_max_m, mc.range_max_m);
-    static motion::MotionRefiner refiner;  // large fixed-size members
     const auto t0 = std::chrono::steady_clock::now();
-    const Status s = refiner.refine(mi, mc, run.result, Span<std::uint8_t>(run.inlier.data(), n),
-                                    Span<double>(run.range_m.data(), n));
-    run.refine_s = seconds(t0);
-    return s.isOk() ? "" : statusText("MotionRefiner::refine", s);
+    s = run.refiner->refine(rq, run.result);
+    run.seconds = seconds(t0);
+    return s.isOk() ? "" : statusText("PairRefiner::refine", s);
 }
 
 // The refined pose of camera 2: camera 1 stays where it was, the baseline keeps its length.
@@ -227,11 +183,11 @@ std::string writeMatches(const std::string& path, const RefineRun& run) {
     std::ofstream f(path);
     f << "# vtm refine matches: x1 y1 x2 y2 ncc inlier (pixels, (0,0) = centre of the top-left pixel)\n";
     char line[160];
-    for (std::int32_t i = 0; i < run.matches->count; ++i) {
-        const features::Match& m = run.matches->items[i];
+    const refine::Result& r = run.result;
+    for (std::size_t i = 0; i < r.matches.size(); ++i) {
+        const features::Match& m = r.matches[i];
         std::snprintf(line, sizeof line, "%.3f %.3f %.3f %.3f %.4f %d\n", m.pixel_a.x(), m.pixel_a.y(),
-                      m.pixel_b.x(), m.pixel_b.y(), static_cast<double>(m.score),
-                      static_cast<int>(run.inlier[static_cast<std::size_t>(i)]));
+                      m.pixel_b.x(), m.pixel_b.y(), static_cast<double>(m.score), static_cast<int>(r.inliers[i]));
         f << line;
     }
     return f.good() ? "" : path + ": cannot write";
@@ -242,8 +198,8 @@ std::string writeMatches(const std::string& path, const RefineRun& run) {
 // (docs/wide-baseline-cli.md).
 std::string inlierRanges(const RefineRun& run) {
     std::vector<double> r;
-    for (std::size_t i = 0; i < run.range_m.size(); ++i) {
-        if (run.inlier[i] != 0U && std::isfinite(run.range_m[i])) r.push_back(run.range_m[i]);
+    for (std::size_t i = 0; i < run.result.ranges_m.size(); ++i) {
+        if (run.result.inliers[i] != 0U && std::isfinite(run.result.ranges_m[i])) r.push_back(run.result.ranges_m[i]);
     }
     if (r.empty()) return "none";
     std::sort(r.begin(), r.end());
@@ -254,14 +210,15 @@ std::string inlierRanges(const RefineRun& run) {
 }
 
 std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, const RefineRun& run) {
-    const motion::MotionResult& r = run.result;
-    const double dR = motion::rotationAngleRad(in.R_2_from_1, r.R_b_from_a) * kRadToDeg;
-    const double dT = motion::directionAngleRad(in.t_2_from_1_m, r.t_b_from_a_m) * kRadToDeg;
+    const refine::Result& res = run.result;
+    const motion::MotionResult& r = res.motion;
+    const features::MatchStats& ms = res.matching;
     char t[2048];
     std::snprintf(t, sizeof t,
                   "# vtm refine\n\n"
                   "| item | value |\n|---|---|\n"
                   "| images | %s, %s (%dx%d) |\n"
+                  "| scene | %s |\n"
                   "| features in image 1 | %d (candidates %d) |\n"
                   "| matches (mutual, NCC >= %.2f) | %d of %d tried (no region %d, low score %d, not refined %d, not mutual %d) |\n"
                   "| inliers | %d of %d |\n"
@@ -273,15 +230,16 @@ std::string refineReport(const WideBaselineOptions& o, const PairInputs& in, con
                   "| predicted vertical disparity after rectification (epipolar 1-sigma) | %.3f px |\n"
                   "| baseline (kept from odometry) | %.4f m |\n"
                   "| LM iterations / passes | %d / %d |\n"
-                  "| time: detect, match, refine | %.3f s, %.3f s, %.3f s |\n",
-                  o.image1.c_str(), o.image2.c_str(), in.image1.width, in.image1.height, run.features->count,
-                  run.detector_stats.candidates, static_cast<double>(features::MatcherConfig{}.min_score),
-                  run.matches->count, run.match_stats.attempted, run.match_stats.no_region, run.match_stats.low_score,
-                  run.match_stats.not_refined, run.match_stats.not_mutual, r.inliers, r.matches, inlierRanges(run).c_str(),
-                  r.initial_rms_px, r.rms_px, dR,
-                  r.rotation_sigma_rad * kRadToDeg, dT, r.direction_sigma_rad * kRadToDeg, r.epipolar_sigma_px,
-                  r.t_b_from_a_m.norm(),
-                  r.iterations, r.passes, run.detect_s, run.match_s, run.refine_s);
+                  "| time: detect + match + refine | %.3f s |\n",
+                  o.image1.c_str(), o.image2.c_str(), in.image1.width, in.image1.height,
+                  o.mast_height_m > 0.0 ? "ground (--mast-height: visibility mask, templates warped for the ground)"
+                                        : "general (features anywhere, fronto-parallel templates)",
+                  static_cast<int>(res.features.size()), res.detection.candidates,
+                  static_cast<double>(run.refiner->config().matcher.min_score), ms.matched, ms.attempted,
+                  ms.no_region, ms.low_score, ms.not_refined, ms.not_mutual, r.inliers, r.matches,
+                  inlierRanges(run).c_str(), r.initial_rms_px, r.rms_px, res.rotation_change_deg,
+                  r.rotation_sigma_rad * kRadToDeg, res.direction_change_deg, r.direction_sigma_rad * kRadToDeg,
+                  r.epipolar_sigma_px, r.t_b_from_a_m.norm(), r.iterations, r.passes, run.seconds);
     return t;
 }
 
@@ -300,8 +258,9 @@ CLI::App* addRefineCommand(CLI::App& app, WideBaselineOptions& o) {
     cmd->add_option("--range", o.range, "range of the scene along camera 1's rays, MIN:MAX metres (default 1:1000)");
     cmd->add_option("--margin", o.margin_px, "odometry uncertainty around the predicted match, pixels (default 60)");
     cmd->add_option("--mast-height", o.mast_height_m,
-                    "camera 1's height above level ground, m: features only where camera 2 sees (default 1.9; 0: "
-                    "everywhere)");
+                    "camera 1's height above level ground, m: ground scene, features only where camera 2 sees and "
+                    "templates warped for the ground (default 1.9; 0: general scene, features everywhere, "
+                    "fronto-parallel templates)");
     cmd->add_option("--out", o.out, "refined poses (vtm-camera-poses 1: frame 0 = camera 1, frame 1 = camera 2)")
         ->required();
     cmd->add_option("--matches", o.matches, "write the matches (x1 y1 x2 y2 ncc inlier)");
@@ -324,11 +283,10 @@ int runRefine(const WideBaselineOptions& o) {
     PairInputs in;
     error = loadPair(o, in);
     RefineRun run;
-    if (error.empty()) error = detectAndMatch(o, in, run);
-    if (error.empty()) error = refineMotion(in, run);
+    if (error.empty()) error = refinePair(o, in, run);
     if (!error.empty()) return fail("refine", kExitInputError, error);
     SimCameraPose p1 = in.pose1;
-    SimCameraPose p2 = refinedPose2(in, run.result);
+    SimCameraPose p2 = refinedPose2(in, run.result.motion);
     p1.frame_index = 0U;
     p2.frame_index = 1U;
     std::ofstream f(o.out);
@@ -389,10 +347,10 @@ std::string runRectifier(const PairInputs& in, RectifyRun& run) {
     Status s = rectifier.init(c, arena);
     if (!s.isOk()) return statusText("Rectifier::init", s);
     rectify::RectifyInput ri;
-    ri.model_a = &in.model1;
-    ri.model_b = &in.model2;
-    ri.R_b_from_a = in.R_2_from_1;
-    ri.t_b_from_a_m = in.t_2_from_1_m;
+    ri.pair.model_a = in.model1;
+    ri.pair.model_b = in.model2;
+    ri.pair.b_from_a.R = in.R_2_from_1;
+    ri.pair.b_from_a.t_m = in.t_2_from_1_m;
     auto t0 = std::chrono::steady_clock::now();
     s = rectifier.compute(ri, run.pair);
     run.compute_s = seconds(t0);

@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "vtm/core/math.hpp"
-#include "vtm/features/visibility.hpp"
 #include "request_support.hpp"
 
 namespace vtm::app {
@@ -42,10 +41,11 @@ using detail::toGrey8;
 
 }  // namespace
 
-motion::MotionConfig descentMotionConfig() noexcept {
-    motion::MotionConfig m;
-    m.rotation_prior_sigma_rad = 0.003;
-    return m;
+refine::Config descentRefineConfig() noexcept {
+    refine::Config r;
+    r.match_margin_px = 16.0;
+    r.visibility_margin_px = 16.0;
+    return r;
 }
 
 Status DescentMapperConfig::validate() const noexcept {
@@ -58,17 +58,12 @@ Status DescentMapperConfig::validate() const noexcept {
         return invalid("parallax_factor: must be 0..1000");
     }
     if (refine_pose) {
-        VTM_RETURN_IF_ERROR(detector.validate());
-        VTM_RETURN_IF_ERROR(matcher.validate());
-        VTM_RETURN_IF_ERROR(motion.validate());
-        if (detector.max_width != sweep.max_width || detector.max_height != sweep.max_height) {
-            return invalid("detector.max_width/max_height: must equal sweep.max_width/max_height", detector.max_width);
+        VTM_RETURN_IF_ERROR(refine.validate());
+        if (refine.max_width != sweep.max_width || refine.max_height != sweep.max_height) {
+            return invalid("refine.max_width/max_height: must equal sweep.max_width/max_height", refine.max_width);
         }
-        if (matcher.max_width != sweep.max_width || matcher.max_height != sweep.max_height) {
-            return invalid("matcher.max_width/max_height: must equal sweep.max_width/max_height", matcher.max_width);
-        }
-        if (!detail::inRange(match_margin_px, 0.0, 1000.0)) {
-            return invalid("match_margin_px: must be 0..1000");
+        if (!detail::inRange(attitude_sigma_rad, 0.0, math::kPi)) {
+            return invalid("attitude_sigma_rad: must be 0..pi");
         }
         if (!detail::inRange(feature_depth_margin, 0.0, 0.9)) {
             return invalid("feature_depth_margin: must be 0..0.9");
@@ -92,9 +87,8 @@ std::size_t DescentMapper::workspaceBytes(const DescentMapperConfig& config) noe
     }
     const Buffers b = buffersOf(config);
     const std::size_t refine = config.refine_pose
-                                   ? features::ForstnerDetector::workspaceBytes(config.detector)  // its own plan
-                                         + features::TemplateMatcher::workspaceBytes(config.matcher)
-                                         + 3U * Arena::arrayBytes<std::uint8_t>(b.pixels)  // 8-bit frames, visibility mask
+                                   ? refine::PairRefiner::workspaceBytes(config.refine)  // its own plan
+                                         + 2U * Arena::arrayBytes<std::uint8_t>(b.pixels)  // 8-bit frames
                                    : 0U;
     return refine + descent::PlaneSweep::workspaceBytes(config.sweep)  // the sweep's own plan
            + 2U * Arena::arrayBytes<std::uint16_t>(b.pixels)            // image 1, image 2
@@ -125,12 +119,10 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
     reason_ = carve<std::uint8_t>(arena, w, h);
     VTM_RETURN_IF_ERROR(map_.init(heightMapOf(config), arena));
     if (config.refine_pose) {
-        VTM_RETURN_IF_ERROR(detector_.init(config.detector, arena));
-        VTM_RETURN_IF_ERROR(matcher_.init(config.matcher, arena));
+        VTM_RETURN_IF_ERROR(refiner_.init(config.refine, arena));
         grey1_ = carve<std::uint8_t>(arena, w, h);
         grey2_ = carve<std::uint8_t>(arena, w, h);
-        visible_ = carve<std::uint8_t>(arena, w, h);
-        if (grey1_.data() == nullptr || grey2_.data() == nullptr || visible_.data() == nullptr) {
+        if (grey1_.data() == nullptr || grey2_.data() == nullptr) {
             return Status(StatusCode::kOutOfMemory, "DescentMapper::init: arena smaller than workspaceBytes(config)",
                           static_cast<std::int64_t>(workspaceBytes(config)));
         }
@@ -213,20 +205,6 @@ double cornerRange(const CameraModel& m, double z) noexcept {
 
 }  // namespace
 
-Status DescentMapper::matchFeatures(const features::MatchPrediction& prediction) noexcept {
-    features::VisibilityPrior prior;
-    prior.up_a = products_.geometry.site_from_cam1.R.transpose() * Vec3(0.0, 0.0, -1.0);
-    prior.camera_height_m = -products_.geometry.site_from_cam1.t_m.z();
-    prior.margin_px = config_.match_margin_px;
-    std::int64_t visible = 0;
-    VTM_RETURN_IF_ERROR(features::predictVisibility(prediction, prior, visible_, visible));
-    if (visible == 0) {
-        return Status(StatusCode::kDegenerate, "refine: the odometry says image 2 sees none of image 1");
-    }
-    VTM_RETURN_IF_ERROR(detector_.detect(grey1_, features_, nullptr, visible_));
-    return matcher_.match(grey1_, grey2_, features_, prediction, matches_, &products_.matching);
-}
-
 // The sweep's depth range from the refined features: their depths along camera 1's axis
 // (range times the ray's axial component), min .. max widened on each side by
 // feature_depth_margin times the middle of that range. One pass over the matches.
@@ -234,15 +212,16 @@ Status DescentMapper::depthRangeFromFeatures() noexcept {
     double lo = 0.0;
     double hi = 0.0;
     std::int32_t n = 0;
-    for (std::int32_t i = 0; i < matches_.count; ++i) {
-        if (inliers_[i] == 0U || !math::isFinite(ranges_[i])) {
+    const refine::Result& r = refined_;
+    for (std::size_t i = 0U; i < r.pixels_a.size(); ++i) {
+        if (r.inliers[i] == 0U || !math::isFinite(r.ranges_m[i])) {
             continue;
         }
         CameraRay ray;
-        if (!backProjectPixel(model_, pixels_a_[i], ray).isOk()) {
+        if (!backProjectPixel(model_, r.pixels_a[i], ray).isOk()) {
             continue;
         }
-        const double depth = ray.origin_m.z() + ranges_[i] * ray.direction.z();
+        const double depth = ray.origin_m.z() + r.ranges_m[i] * ray.direction.z();
         lo = (n == 0 || depth < lo) ? depth : lo;
         hi = (n == 0 || depth > hi) ? depth : hi;
         ++n;
@@ -255,48 +234,34 @@ Status DescentMapper::depthRangeFromFeatures() noexcept {
     return setSweepRange(zmin, hi + margin);
 }
 
+// The refine stage: refine::PairRefiner on the ground scene, prior = the odometry's pose
+// with the attitude prior; then the sweep's depth range from the inliers.
 Status DescentMapper::refinePose() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     RigidPose& p1 = products_.geometry.site_from_cam1;
     RigidPose& p2 = products_.geometry.site_from_cam2;
     toGrey8(image1_, products_.frame1.bit_depth, grey1_);
     toGrey8(image2_, products_.frame2.bit_depth, grey2_);
+    refine::Request rq;
+    rq.prior.model_a = model_;
+    rq.prior.model_b = model_;
     // Camera frames: X2 = R X1 + t.
-    const Mat3 R = p2.R.transpose() * p1.R;
-    const Vec3 t = p2.R.transpose() * (p1.t_m - p2.t_m);
-    features::MatchPrediction prediction;
-    prediction.model_a = &model_;
-    prediction.model_b = &model_;
-    prediction.R_b_from_a = R;
-    prediction.t_b_from_a_m = t;
-    prediction.range_min_m = sweep_.config().depth_min_m;
-    prediction.range_max_m = cornerRange(model_, sweep_.config().depth_max_m);
-    prediction.margin_px = config_.match_margin_px;
-    prediction.surface_normal_a = p1.R.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
-    Status st = matchFeatures(prediction);
+    rq.prior.b_from_a = relativePose(p1, p2);
+    rq.rotation_sigma_rad = config_.attitude_sigma_rad;
+    rq.image_a = grey1_;
+    rq.image_b = grey2_;
+    rq.range_min_m = sweep_.config().depth_min_m;
+    rq.range_max_m = cornerRange(model_, sweep_.config().depth_max_m);
+    rq.scene = refine::Scene::kGround;
+    rq.up_a = p1.R.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
+    rq.camera_height_m = -p1.t_m.z();                   // site z is down
+    Status st = refiner_.refine(rq, refined_);
+    products_.matching = refined_.matching;
     if (st.isOk()) {
-        for (std::int32_t i = 0; i < matches_.count; ++i) {
-            pixels_a_[i] = matches_.items[i].pixel_a;
-            pixels_b_[i] = matches_.items[i].pixel_b;
-        }
-        motion::MotionInput input;
-        input.model_a = &model_;
-        input.model_b = &model_;
-        input.R_b_from_a = R;
-        input.t_b_from_a_m = t;
-        const auto n = static_cast<std::size_t>(matches_.count);
-        input.pixels_a = Span<const Vec2>(pixels_a_, n);
-        input.pixels_b = Span<const Vec2>(pixels_b_, n);
-        motion::MotionConfig mc = config_.motion;
-        mc.range_min_m = prediction.range_min_m;
-        mc.range_max_m = prediction.range_max_m;
-        st = refiner_.refine(input, mc, products_.motion, Span<std::uint8_t>(inliers_, n), Span<double>(ranges_, n));
-    }
-    if (st.isOk()) {
-        const motion::MotionResult& m = products_.motion;
-        constexpr double kDegPerRad = 180.0 / math::kPi;
-        products_.refine_rotation_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, R);
-        products_.refine_direction_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, t);
+        const motion::MotionResult& m = refined_.motion;
+        products_.motion = m;
+        products_.refine_rotation_deg = refined_.rotation_change_deg;
+        products_.refine_direction_deg = refined_.direction_change_deg;
         // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
         p2.R = p1.R * m.R_b_from_a.transpose();
         p2.t_m = p1.t_m - p2.R * m.t_b_from_a_m;

@@ -4,7 +4,6 @@
 
 #include "request_support.hpp"
 #include "vtm/core/math.hpp"
-#include "vtm/features/visibility.hpp"
 #include "vtm/stereo/disparity_window.hpp"
 #include "vtm/terrain/ground_bound.hpp"
 #include "vtm/terrain/rectified_geometry.hpp"
@@ -74,9 +73,7 @@ Status WideBaselineMapperConfig::validate() const noexcept {
         return invalid("frame_width/frame_height: must be 16..4094", frame_width);
     }
     VTM_RETURN_IF_ERROR(validateMount(mount));
-    VTM_RETURN_IF_ERROR(detector.validate());
-    VTM_RETURN_IF_ERROR(matcher.validate());
-    VTM_RETURN_IF_ERROR(motion.validate());
+    VTM_RETURN_IF_ERROR(refine.validate());
     if (!math::isFinite(range_min_m) || !math::isFinite(range_max_m) || !(range_min_m > 0.0) ||
         !(range_max_m > range_min_m)) {
         return invalid("range_min_m/range_max_m: need 0 < range_min_m < range_max_m, finite");
@@ -85,11 +82,8 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(stereo.validate());
     VTM_RETURN_IF_ERROR(limitsOf(*this).validate());
     VTM_RETURN_IF_ERROR(height_map.validate());
-    if (detector.max_width != frame_width || detector.max_height != frame_height) {
-        return invalid("detector.max_width/max_height: must equal frame_width/frame_height", detector.max_width);
-    }
-    if (matcher.max_width != frame_width || matcher.max_height != frame_height) {
-        return invalid("matcher.max_width/max_height: must equal frame_width/frame_height", matcher.max_width);
+    if (refine.max_width != frame_width || refine.max_height != frame_height) {
+        return invalid("refine.max_width/max_height: must equal frame_width/frame_height", refine.max_width);
     }
     if (rectify.max_width != frame_width || rectify.max_height != frame_height) {
         return invalid("rectify.max_width/max_height: must equal frame_width/frame_height", rectify.max_width);
@@ -101,8 +95,8 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     if (stereo.d_min != 0) {
         return invalid("stereo.d_min: must be 0 (the mapper places the disparity window per pair)", stereo.d_min);
     }
-    if (!detail::inRange(match_margin_px, 0.0, 1000.0)) {
-        return invalid("match_margin_px: must be 0..1000");
+    if (!detail::inRange(attitude_sigma_rad, 0.0, math::kPi)) {
+        return invalid("attitude_sigma_rad: must be 0..pi");
     }
     if (!detail::inRange(relief_below_m, 0.0, 1000.0)) {
         return invalid("relief_below_m: must be 0..1000");
@@ -119,14 +113,13 @@ std::size_t WideBaselineMapper::workspaceBytes(const WideBaselineMapperConfig& c
         return 0U;
     }
     const Sizes s = sizesOf(config);
-    return features::ForstnerDetector::workspaceBytes(config.detector)  // each module's own plan
-           + features::TemplateMatcher::workspaceBytes(config.matcher) +
-           rectify::Rectifier::workspaceBytes(rectifyConfigOf(config)) +
+    return refine::PairRefiner::workspaceBytes(config.refine)  // each module's own plan
+           + rectify::Rectifier::workspaceBytes(rectifyConfigOf(config)) +
            stereo::MlStereo::workspaceBytes(config.stereo) +
            stereo::SpeckleFilter::workspaceBytes(speckleConfigOf(config)) +
            terrain::HeightMap::workspaceBytes(config.height_map) +
            Arena::arrayBytes<std::uint16_t>(s.frame)              // staging frame of a > 8-bit camera
-           + 3U * Arena::arrayBytes<std::uint8_t>(s.frame)        // the two frames (8-bit), visibility mask
+           + 2U * Arena::arrayBytes<std::uint8_t>(s.frame)        // the two frames (8-bit)
            + 2U * Arena::arrayBytes<std::uint8_t>(s.rectified)    // rectified pair
            + Arena::arrayBytes<std::int16_t>(s.rectified)         // disparity
            + Arena::arrayBytes<float>(s.rectified)                // its sigma
@@ -149,8 +142,7 @@ Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& a
         return Status(StatusCode::kInvalidArgument, model_ok.reason(), model_ok.detail());
     }
     const std::size_t before = arena.usedBytes();
-    VTM_RETURN_IF_ERROR(detector_.init(config.detector, arena));
-    VTM_RETURN_IF_ERROR(matcher_.init(config.matcher, arena));
+    VTM_RETURN_IF_ERROR(refiner_.init(config.refine, arena));
     VTM_RETURN_IF_ERROR(rectifier_.init(rectifyConfigOf(config), arena));
     VTM_RETURN_IF_ERROR(stereo_.init(config.stereo, arena));
     VTM_RETURN_IF_ERROR(speckle_.init(speckleConfigOf(config), arena));
@@ -162,14 +154,13 @@ Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& a
     frame16_ = carve<std::uint16_t>(arena, w, h);
     grey1_ = carve<std::uint8_t>(arena, w, h);
     grey2_ = carve<std::uint8_t>(arena, w, h);
-    visible_ = carve<std::uint8_t>(arena, w, h);
     rect1_ = carve<std::uint8_t>(arena, rw, rh);
     rect2_ = carve<std::uint8_t>(arena, rw, rh);
     disparity_ = carve<std::int16_t>(arena, rw, rh);
     sigma_ = carve<float>(arena, rw, rh);
     points_ = arena.allocateArray<terrain::TerrainPoint>(sizesOf(config).rectified);
     if (frame16_.data() == nullptr || grey1_.data() == nullptr ||
-        grey2_.data() == nullptr || visible_.data() == nullptr || rect1_.data() == nullptr ||
+        grey2_.data() == nullptr || rect1_.data() == nullptr ||
         rect2_.data() == nullptr || disparity_.data() == nullptr ||
         sigma_.data() == nullptr || points_.empty()) {
         return Status(StatusCode::kOutOfMemory, "WideBaselineMapper::init: arena smaller than workspaceBytes(config)",
@@ -239,59 +230,33 @@ Status WideBaselineMapper::planGeometry() noexcept {
                   t0);
 }
 
-Status WideBaselineMapper::matchFeatures(const features::MatchPrediction& prediction) noexcept {
-    features::VisibilityPrior prior;
-    prior.up_a = products_.R_site_from_cam1.transpose() * Vec3(0.0, 0.0, -1.0);
-    // The mast camera's height above the ground the rover stands on (site z is down; the
-    // vehicle frame's origin is on the ground).
-    const double height = pose1_.position_m[2] - products_.position1_site_m.z();
-    prior.camera_height_m = height > 0.05 ? height : 0.05;
-    prior.margin_px = 16.0;
-    std::int64_t visible = 0;
-    VTM_RETURN_IF_ERROR(features::predictVisibility(prediction, prior, visible_, visible));
-    if (visible == 0) {
-        return Status(StatusCode::kDegenerate, "refine: the odometry says image 2 sees none of image 1");
-    }
-    VTM_RETURN_IF_ERROR(detector_.detect(grey1_, features_, nullptr, visible_));
-    return matcher_.match(grey1_, grey2_, features_, prediction, matches_, &products_.matching);
-}
-
+// The refine stage: refine::PairRefiner on the ground scene, prior = the odometry's pose.
 Status WideBaselineMapper::refinePose() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     WideBaselineProducts& p = products_;
-    features::MatchPrediction prediction;
-    prediction.model_a = &model_;
-    prediction.model_b = &model_;
-    prediction.R_b_from_a = p.odometry_R_2_from_1;
-    prediction.t_b_from_a_m = p.odometry_t_2_from_1_m;
-    prediction.range_min_m = config_.range_min_m;
-    prediction.range_max_m = config_.range_max_m;
-    prediction.margin_px = config_.match_margin_px;
-    prediction.surface_normal_a = p.R_site_from_cam1.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
-    Status st = matchFeatures(prediction);
-    const auto n = static_cast<std::size_t>(matches_.count);
+    refine::Request rq;
+    rq.prior.model_a = model_;
+    rq.prior.model_b = model_;
+    rq.prior.b_from_a.R = p.odometry_R_2_from_1;
+    rq.prior.b_from_a.t_m = p.odometry_t_2_from_1_m;
+    rq.rotation_sigma_rad = config_.attitude_sigma_rad;
+    rq.image_a = grey1_;
+    rq.image_b = grey2_;
+    rq.range_min_m = config_.range_min_m;
+    rq.range_max_m = config_.range_max_m;
+    rq.scene = refine::Scene::kGround;
+    rq.up_a = p.R_site_from_cam1.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
+    // The mast camera's height above the ground the rover stands on (site z is down; the
+    // vehicle frame's origin is on the ground).
+    const double height = pose1_.position_m[2] - p.position1_site_m.z();
+    rq.camera_height_m = height > 0.05 ? height : 0.05;
+    Status st = refiner_.refine(rq, refined_);
+    p.matching = refined_.matching;
     if (st.isOk()) {
-        for (std::int32_t i = 0; i < matches_.count; ++i) {
-            pixels_a_[i] = matches_.items[i].pixel_a;
-            pixels_b_[i] = matches_.items[i].pixel_b;
-        }
-        motion::MotionInput input;
-        input.model_a = &model_;
-        input.model_b = &model_;
-        input.R_b_from_a = p.odometry_R_2_from_1;
-        input.t_b_from_a_m = p.odometry_t_2_from_1_m;
-        input.pixels_a = Span<const Vec2>(pixels_a_, n);
-        input.pixels_b = Span<const Vec2>(pixels_b_, n);
-        motion::MotionConfig mc = config_.motion;
-        mc.range_min_m = config_.range_min_m;
-        mc.range_max_m = config_.range_max_m;
-        st = refiner_.refine(input, mc, p.motion, Span<std::uint8_t>(inliers_, n));
-    }
-    if (st.isOk()) {
-        const motion::MotionResult& m = p.motion;
-        constexpr double kDegPerRad = 180.0 / math::kPi;
-        p.refine_rotation_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, p.odometry_R_2_from_1);
-        p.refine_direction_deg = kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, p.odometry_t_2_from_1_m);
+        const motion::MotionResult& m = refined_.motion;
+        p.motion = m;
+        p.refine_rotation_deg = refined_.rotation_change_deg;
+        p.refine_direction_deg = refined_.direction_change_deg;
         // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
         p.R_site_from_cam2 = p.R_site_from_cam1 * m.R_b_from_a.transpose();
         p.position2_site_m = p.position1_site_m - p.R_site_from_cam2 * m.t_b_from_a_m;
@@ -303,10 +268,7 @@ Status WideBaselineMapper::runRectify() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     WideBaselineProducts& p = products_;
     rectify::RectifyInput in;
-    in.model_a = &model_;
-    in.model_b = &model_;
-    in.R_b_from_a = p.motion.R_b_from_a;
-    in.t_b_from_a_m = p.motion.t_b_from_a_m;
+    in.pair = refined_.refined;  // the camera's model twice and the refined b_from_a
     Status st = rectifier_.compute(in, p.rectified);
     if (st.isOk()) {
         st = rectifier_.remap(rectify::Rectifier::Side::kA, grey1_, rect1_);
@@ -330,11 +292,12 @@ Status WideBaselineMapper::runRectify() noexcept {
 Status WideBaselineMapper::placeDisparityWindow() noexcept {
     WideBaselineProducts& p = products_;
     std::size_t n = 0U;
-    for (std::int32_t i = 0; i < matches_.count; ++i) {
+    const refine::Result& r = refined_;
+    for (std::size_t i = 0U; i < r.pixels_a.size(); ++i) {
         Vec2 ra;
         Vec2 rb;
-        if (inliers_[i] == 0U || !rectifier_.rectifyPixel(rectify::Rectifier::Side::kA, pixels_a_[i], ra).isOk() ||
-            !rectifier_.rectifyPixel(rectify::Rectifier::Side::kB, pixels_b_[i], rb).isOk()) {
+        if (r.inliers[i] == 0U || !rectifier_.rectifyPixel(rectify::Rectifier::Side::kA, r.pixels_a[i], ra).isOk() ||
+            !rectifier_.rectifyPixel(rectify::Rectifier::Side::kB, r.pixels_b[i], rb).isOk()) {
             continue;
         }
         disparities_[n] = ra.x() - rb.x();

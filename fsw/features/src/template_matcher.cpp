@@ -822,16 +822,13 @@ Status checkInputs(const MatcherConfig& c, const ImageView<const std::uint8_t>& 
         return Status(StatusCode::kSizeMismatch, "TemplateMatcher::match: image_b exceeds max_width x max_height",
                       image_b.width());
     }
-    if (p.model_a == nullptr || p.model_b == nullptr) {
-        return Status(StatusCode::kInvalidArgument, "MatchPrediction: model_a or model_b is null");
+    if (p.pair.model_a.width_px != image_a.width() || p.pair.model_a.height_px != image_a.height()) {
+        return Status(StatusCode::kSizeMismatch, "MatchPrediction.pair.model_a: size differs from image_a",
+                      p.pair.model_a.width_px);
     }
-    if (p.model_a->width_px != image_a.width() || p.model_a->height_px != image_a.height()) {
-        return Status(StatusCode::kSizeMismatch, "MatchPrediction.model_a: size differs from image_a",
-                      p.model_a->width_px);
-    }
-    if (p.model_b->width_px != image_b.width() || p.model_b->height_px != image_b.height()) {
-        return Status(StatusCode::kSizeMismatch, "MatchPrediction.model_b: size differs from image_b",
-                      p.model_b->width_px);
+    if (p.pair.model_b.width_px != image_b.width() || p.pair.model_b.height_px != image_b.height()) {
+        return Status(StatusCode::kSizeMismatch, "MatchPrediction.pair.model_b: size differs from image_b",
+                      p.pair.model_b.width_px);
     }
     if (!(math::isFinite(p.range_min_m) && math::isFinite(p.range_max_m) && p.range_min_m > 0.0)) {
         return Status(StatusCode::kInvalidArgument, "MatchPrediction.range_min_m: must be > 0 and finite");
@@ -873,10 +870,10 @@ bool refinedAffine(const AffineRefineConfig& config, const ImageView<const std::
 // The A -> B search of a (validated) prediction, the terrain normal normalised.
 Geometry forwardGeometry(const MatchPrediction& prediction) noexcept {
     Geometry g;
-    g.from = prediction.model_a;
-    g.to = prediction.model_b;
-    g.R_to_from = prediction.R_b_from_a;
-    g.t_to_from_m = prediction.t_b_from_a_m;
+    g.from = &prediction.pair.model_a;
+    g.to = &prediction.pair.model_b;
+    g.R_to_from = prediction.pair.b_from_a.R;
+    g.t_to_from_m = prediction.pair.b_from_a.t_m;
     g.range_min_m = prediction.range_min_m;
     g.range_max_m = prediction.range_max_m;
     g.margin_px = prediction.margin_px;

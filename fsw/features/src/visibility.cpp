@@ -10,9 +10,6 @@ namespace {
 
 Status checkVisibilityInputs(const MatchPrediction& p, const VisibilityPrior& prior,
                              const ImageView<std::uint8_t>& mask) noexcept {
-    if (p.model_a == nullptr || p.model_b == nullptr) {
-        return Status(StatusCode::kInvalidArgument, "predictVisibility: model_a and model_b must not be null");
-    }
     if (!(p.range_min_m > 0.0) || !(p.range_max_m > p.range_min_m) || !math::isFinite(p.range_max_m)) {
         return Status(StatusCode::kInvalidArgument, "predictVisibility: need 0 < range_min_m < range_max_m, finite");
     }
@@ -27,8 +24,8 @@ Status checkVisibilityInputs(const MatchPrediction& p, const VisibilityPrior& pr
     if (prior.stride_px < 1 || prior.stride_px > 64) {
         return Status(StatusCode::kInvalidArgument, "predictVisibility: stride_px must be 1..64", prior.stride_px);
     }
-    if (mask.data() == nullptr || mask.width() != p.model_a->width_px || mask.height() != p.model_a->height_px) {
-        return Status(StatusCode::kSizeMismatch, "predictVisibility: mask is not model_a's size", mask.width());
+    if (mask.data() == nullptr || mask.width() != p.pair.model_a.width_px || mask.height() != p.pair.model_a.height_px) {
+        return Status(StatusCode::kSizeMismatch, "predictVisibility: mask is not pair.model_a's size", mask.width());
     }
     return Status::ok();
 }
@@ -37,7 +34,7 @@ Status checkVisibilityInputs(const MatchPrediction& p, const VisibilityPrior& pr
 // by margin.
 bool seenByB(const MatchPrediction& p, const VisibilityPrior& prior, const Vec3& up, const Vec2& pixel) noexcept {
     CameraRay ray;
-    if (!backProjectPixel(*p.model_a, pixel, ray).isOk()) {
+    if (!backProjectPixel(p.pair.model_a, pixel, ray).isOk()) {
         return false;
     }
     const double down = -ray.direction.dot(up);  // > 0: the ray descends
@@ -46,14 +43,14 @@ bool seenByB(const MatchPrediction& p, const VisibilityPrior& prior, const Vec3&
         range = prior.camera_height_m / down;
         range = (range < p.range_min_m) ? p.range_min_m : ((range > p.range_max_m) ? p.range_max_m : range);
     }
-    const Vec3 x_b = p.R_b_from_a * (ray.origin_m + range * ray.direction) + p.t_b_from_a_m;
+    const Vec3 x_b = p.pair.b_from_a.R * (ray.origin_m + range * ray.direction) + p.pair.b_from_a.t_m;
     Vec2 px;
-    if (!projectPoint(*p.model_b, x_b, px).isOk()) {
+    if (!projectPoint(p.pair.model_b, x_b, px).isOk()) {
         return false;
     }
     const double m = prior.margin_px;
-    return px.x() >= m - 0.5 && px.y() >= m - 0.5 && px.x() <= p.model_b->width_px - 0.5 - m &&
-           px.y() <= p.model_b->height_px - 0.5 - m;
+    return px.x() >= m - 0.5 && px.y() >= m - 0.5 && px.x() <= p.pair.model_b.width_px - 0.5 - m &&
+           px.y() <= p.pair.model_b.height_px - 0.5 - m;
 }
 
 }  // namespace

@@ -40,21 +40,8 @@ Mat3 skew(const Vec3& w) noexcept {
 
 bool finite2(const Vec2& v) noexcept { return math::isFinite(v.x()) && math::isFinite(v.y()); }
 
-bool finiteMatrix(const Mat3& m) noexcept {
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-            if (!math::isFinite(m(r, c))) {
-                return false;
-            }
-        }
-    }
-    return true;
-}
-
-bool isRotation(const Mat3& r) noexcept {
-    const Mat3 e = r.transpose() * r - Mat3::Identity();
-    return e.cwiseAbs().maxCoeff() <= 1e-6 && r.determinant() > 0.0;
-}
+// Tolerance of the input rotation's orthonormality (max |R^T R - I| element).
+constexpr double kRotationTolerance = 1e-6;
 
 double kernelWeight(RobustKernel kernel, double scale, double e) noexcept {
     if (kernel == RobustKernel::kHuber) {
@@ -78,16 +65,9 @@ double kernelCost(RobustKernel kernel, double scale, double e) noexcept {
     return 0.5 * e * e;
 }
 
-Status checkModel(const CameraModel* model, const char* null_reason) noexcept {
-    if (model == nullptr) {
-        return Status(StatusCode::kInvalidArgument, null_reason);
-    }
-    return validateCameraModel(*model);
-}
-
 Status checkInput(const MotionInput& in, std::size_t flags, std::size_t ranges) noexcept {
-    VTM_RETURN_IF_ERROR(checkModel(in.model_a, "model_a: null"));
-    VTM_RETURN_IF_ERROR(checkModel(in.model_b, "model_b: null"));
+    VTM_RETURN_IF_ERROR(validateCameraModel(in.pair.model_a));
+    VTM_RETURN_IF_ERROR(validateCameraModel(in.pair.model_b));
     const std::size_t n = in.pixels_a.size();
     if (in.pixels_b.size() != n) {
         return Status(StatusCode::kInvalidArgument, "pixels_b: size differs from pixels_a",
@@ -101,15 +81,15 @@ Status checkInput(const MotionInput& in, std::size_t flags, std::size_t ranges) 
         return Status(StatusCode::kInvalidArgument, "inlier_flags / ranges_m: must be empty or one per match",
                       static_cast<std::int64_t>(flags != 0U && flags != n ? flags : ranges));
     }
-    if (!finiteMatrix(in.R_b_from_a) || !isRotation(in.R_b_from_a)) {
-        return Status(StatusCode::kInvalidArgument, "R_b_from_a: not a finite rotation (within 1e-6)");
+    if (!isRotation(in.pair.b_from_a.R, kRotationTolerance)) {
+        return Status(StatusCode::kInvalidArgument, "pair.b_from_a.R: not a finite rotation (within 1e-6)");
     }
-    const Vec3& t = in.t_b_from_a_m;
+    const Vec3& t = in.pair.b_from_a.t_m;
     if (!math::isFinite(t.x()) || !math::isFinite(t.y()) || !math::isFinite(t.z())) {
-        return Status(StatusCode::kInvalidArgument, "t_b_from_a_m: not finite");
+        return Status(StatusCode::kInvalidArgument, "pair.b_from_a.t_m: not finite");
     }
     if (t.dot(t) == 0.0) {
-        return Status(StatusCode::kInvalidArgument, "t_b_from_a_m: zero baseline (direction undefined)");
+        return Status(StatusCode::kInvalidArgument, "pair.b_from_a.t_m: zero baseline (direction undefined)");
     }
     for (std::size_t i = 0U; i < n; ++i) {
         if (!finite2(in.pixels_a[i]) || !finite2(in.pixels_b[i])) {
@@ -242,7 +222,7 @@ double MotionRefiner::bestInverseRange(const Motion& m, std::int32_t i, double r
 }
 
 std::int32_t MotionRefiner::prepare(const MotionInput& input, const MotionConfig& config, const Motion& m) noexcept {
-    model_b_ = input.model_b;
+    model_b_ = &input.pair.model_b;
     config_ = config;
     count_ = static_cast<std::int32_t>(input.pixels_a.size());
     rho_min_ = 1.0 / config.range_max_m;
@@ -252,8 +232,8 @@ std::int32_t MotionRefiner::prepare(const MotionInput& input, const MotionConfig
         const auto k = static_cast<std::size_t>(i);
         CameraRay ray_a;
         CameraRay ray_b;
-        bool ok = backProjectPixel(*input.model_a, input.pixels_a[k], ray_a).isOk() &&
-                  backProjectPixel(*input.model_b, input.pixels_b[k], ray_b).isOk();
+        bool ok = backProjectPixel(input.pair.model_a, input.pixels_a[k], ray_a).isOk() &&
+                  backProjectPixel(input.pair.model_b, input.pixels_b[k], ray_b).isOk();
         origin_a_[i] = ray_a.origin_m;
         direction_a_[i] = ray_a.direction;
         origin_b_[i] = ray_b.origin_m;
@@ -490,10 +470,10 @@ Status MotionRefiner::refine(const MotionInput& input, const MotionConfig& confi
     result = MotionResult{};
     result.matches = static_cast<std::int32_t>(input.pixels_a.size());
     Motion m;
-    m.R = input.R_b_from_a;
-    R_prior_ = input.R_b_from_a;
-    m.baseline_m = math::sqrt(input.t_b_from_a_m.dot(input.t_b_from_a_m));
-    m.u = input.t_b_from_a_m / m.baseline_m;
+    m.R = input.pair.b_from_a.R;
+    R_prior_ = input.pair.b_from_a.R;
+    m.baseline_m = math::sqrt(input.pair.b_from_a.t_m.dot(input.pair.b_from_a.t_m));
+    m.u = input.pair.b_from_a.t_m / m.baseline_m;
     const std::int32_t usable = prepare(input, config, m);
     if (usable < config.min_inliers) {
         return Status(StatusCode::kDegenerate, "matches: fewer usable matches than min_inliers", usable);

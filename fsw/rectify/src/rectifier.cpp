@@ -29,20 +29,6 @@ constexpr double kDegPerRad = 180.0 / math::kPi;
 // Disparity bounds are clamped to this so that they always fit int32 (report only).
 constexpr double kDisparityClamp = 1.0e9;
 
-bool finite(const Mat3& m) noexcept {
-    for (Eigen::Index i = 0; i < 9; ++i) {
-        if (!math::isFinite(m(i))) {
-            return false;
-        }
-    }
-    return true;
-}
-
-bool isRotation(const Mat3& r) noexcept {
-    const Mat3 e = r.transpose() * r - Mat3::Identity();
-    return e.cwiseAbs().maxCoeff() <= kRotationTolerance && r.determinant() > 0.0;
-}
-
 // Unit ray (not normalised: z = 1 in camera coordinates) of a pixel of a linear camera,
 // in its reference frame: R^T K^-1 (u, v, 1).
 Vec3 linearRayRef(const LinearCamera& cam, double u, double v) noexcept {
@@ -114,22 +100,19 @@ Status Rectifier::init(const RectifyConfig& config, Arena& arena) noexcept {
 }
 
 Status Rectifier::checkInput(const RectifyInput& input) const noexcept {
-    if (input.model_a == nullptr || input.model_b == nullptr) {
-        return Status(StatusCode::kInvalidArgument, "Rectifier.compute: model_a or model_b is null");
-    }
-    const CameraModel* models[2] = {input.model_a, input.model_b};
+    const CameraModel* models[2] = {&input.pair.model_a, &input.pair.model_b};
     for (const CameraModel* m : models) {
         if (m->width_px > kMaxImageSide || m->height_px > kMaxImageSide) {
             return Status(StatusCode::kInvalidArgument, "Rectifier.compute: model image side above 4094 px",
                           m->width_px > m->height_px ? m->width_px : m->height_px);
         }
     }
-    if (!finite(input.R_b_from_a) || !isRotation(input.R_b_from_a)) {
-        return Status(StatusCode::kInvalidArgument, "Rectifier.compute: R_b_from_a is not a rotation");
+    const RigidPose& b_from_a = input.pair.b_from_a;
+    if (!isRotation(b_from_a.R, kRotationTolerance)) {
+        return Status(StatusCode::kInvalidArgument, "Rectifier.compute: pair.b_from_a.R is not a rotation");
     }
-    if (!math::isFinite(input.t_b_from_a_m.x()) || !math::isFinite(input.t_b_from_a_m.y()) ||
-        !math::isFinite(input.t_b_from_a_m.z())) {
-        return Status(StatusCode::kInvalidArgument, "Rectifier.compute: t_b_from_a_m is not finite");
+    if (!math::isFinite(b_from_a.t_m.x()) || !math::isFinite(b_from_a.t_m.y()) || !math::isFinite(b_from_a.t_m.z())) {
+        return Status(StatusCode::kInvalidArgument, "Rectifier.compute: pair.b_from_a.t_m is not finite");
     }
     return Status::ok();
 }
@@ -140,8 +123,8 @@ namespace {
 // optical axis, v3 = v1 x v2.
 Status rectifyingRotation(const RectifyInput& input, double min_angle_deg, Mat3& R_rect_from_a, double& sign,
                           double& baseline_m, const LinearCamera& lin_a, const LinearCamera& lin_b) noexcept {
-    const Mat3 R_a_from_b = input.R_b_from_a.transpose();
-    const Vec3 c_b_in_a = R_a_from_b * (lin_b.centre_ref_m - input.t_b_from_a_m);
+    const Mat3 R_a_from_b = input.pair.b_from_a.R.transpose();
+    const Vec3 c_b_in_a = R_a_from_b * (lin_b.centre_ref_m - input.pair.b_from_a.t_m);
     const Vec3 base = c_b_in_a - lin_a.centre_ref_m;
     baseline_m = math::sqrt(base.dot(base));
     if (!(baseline_m > kMinBaselineM)) {
@@ -197,8 +180,8 @@ Status Rectifier::compute(const RectifyInput& input, RectifiedPair& out) noexcep
     }
     VTM_RETURN_IF_ERROR(checkInput(input));
     Geometry g;
-    VTM_RETURN_IF_ERROR(linearizeCamera(*input.model_a, g.lin_a));
-    VTM_RETURN_IF_ERROR(linearizeCamera(*input.model_b, g.lin_b));
+    VTM_RETURN_IF_ERROR(linearizeCamera(input.pair.model_a, g.lin_a));
+    VTM_RETURN_IF_ERROR(linearizeCamera(input.pair.model_b, g.lin_b));
     out_width_ = config_.out_width != 0 ? config_.out_width : g.lin_a.width_px;
     out_height_ = config_.out_height != 0 ? config_.out_height : g.lin_a.height_px;
     if (out_width_ > config_.max_width || out_height_ > config_.max_height) {
@@ -207,14 +190,14 @@ Status Rectifier::compute(const RectifyInput& input, RectifiedPair& out) noexcep
     }
     VTM_RETURN_IF_ERROR(rectifyingRotation(input, config_.min_baseline_angle_deg, g.R_rect_from_a, g.sign,
                                            g.baseline_m, g.lin_a, g.lin_b));
-    g.R_a_from_b = input.R_b_from_a.transpose();
+    g.R_a_from_b = input.pair.b_from_a.R.transpose();
     const Vec3 axis_a = g.lin_a.R_cam_from_ref.row(2).transpose();
     const Vec3 axis_b = g.R_a_from_b * g.lin_b.R_cam_from_ref.row(2).transpose();
     g.convergence_deg = kDegPerRad * math::atan2(math::sqrt(axis_a.cross(axis_b).squaredNorm()), axis_a.dot(axis_b));
-    sides_[0].model = *input.model_a;
+    sides_[0].model = input.pair.model_a;
     sides_[0].R_rect_from_ref = g.R_rect_from_a;
     sides_[0].centre_ref_m = g.lin_a.centre_ref_m;
-    sides_[1].model = *input.model_b;
+    sides_[1].model = input.pair.model_b;
     sides_[1].R_rect_from_ref = g.R_rect_from_a * g.R_a_from_b;
     sides_[1].centre_ref_m = g.lin_b.centre_ref_m;
     VTM_RETURN_IF_ERROR(setIntrinsics(g));

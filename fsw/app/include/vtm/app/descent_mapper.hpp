@@ -9,11 +9,13 @@
 //             camera 1's height above the site datum, +-relief_fraction; image 2 must be
 //             the closer one
 //   refine    (refine_pose) the relative pose from the images, as the paper does before
-//             the sweep: Förstner features of image 1 where image 2 sees it, guided
-//             template matching into image 2 (templates warped for the ground plane, so
-//             the scale change between the frames is in the warp), MotionRefiner (LM over
-//             rotation and translation direction; the baseline length stays the
-//             odometry's); camera 2's pose is replaced by the refined one
+//             the sweep: refine::PairRefiner on the ground scene (docs/refine.md):
+//             Förstner features of image 1 where image 2 sees it, guided template
+//             matching into image 2 (templates warped for the ground plane, so the scale
+//             change between the frames is in the warp), MotionRefiner (LM over rotation
+//             and translation direction, with the attitude prior; the baseline length stays
+//             the odometry's); camera 2's pose is replaced by the refined one, and the
+//             sweep's depth range becomes the inliers' depth range
 //   sweep     descent::PlaneSweep: depth of every pixel of image 1 (or a reason)
 //   grid      terrain::HeightMap (grid_reducer: the mean by default) on a grid of
 //             grid_cells^2 centred under camera 1: descent::addDepthToHeightMap
@@ -42,17 +44,17 @@
 #include "vtm/descent/plane_sweep.hpp"
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
+#include "vtm/refine/pair_refiner.hpp"
 #include "vtm/terrain/height_map.hpp"
 
 namespace vtm::app {
 
 constexpr std::int32_t kMaxGridCells = 4096;  // elevation grid side
 
-// The refiner's defaults plus a rotation prior of 0.003 rad (0.17 deg) per axis: a lander
-// knows its attitude from its IMU far better than its position, and without the prior a
-// narrow view of near-planar ground along the optical axis cannot tell a small rotation
-// from a change of translation direction (docs/app.md "Accuracy").
-[[nodiscard]] motion::MotionConfig descentMotionConfig() noexcept;
+// The refinement's defaults with the lander's matching window: 16 px around the
+// odometry's prediction (its position and attitude error seen in image 2), and the same
+// 16 px as the visibility margin.
+[[nodiscard]] refine::Config descentRefineConfig() noexcept;
 
 struct DescentMapperConfig {
     // The plane sweep. max_width x max_height must be the camera's frame size; depth_min_m,
@@ -69,16 +71,16 @@ struct DescentMapperConfig {
     // (0.25 px / P) of the range width: 20 keeps pixels known to ~1.25 % of the range
     // (docs/app.md has the measured trade-off). 0..1000.
     double parallax_factor = 20.0;
-    // Relative-pose refinement from the images (stage refine). The detector's and the
-    // matcher's capacity must be the camera's frame size; motion's range limits are
-    // replaced per pair by the depth range (widened to the image corners).
+    // Relative-pose refinement from the images (stage refine). refine.max_width/max_height
+    // (with its detector's and matcher's) must be the camera's frame size; the motion's
+    // range limits are replaced per pair by the depth range (widened to the image corners).
     bool refine_pose = true;
-    features::DetectorConfig detector{};
-    features::MatcherConfig matcher{};
-    motion::MotionConfig motion = descentMotionConfig();
-    // Matching window around the odometry's prediction, image-2 pixels (its position and
-    // attitude error seen in image 2), 0..1000.
-    double match_margin_px = 16.0;
+    refine::Config refine = descentRefineConfig();
+    // The refiner's rotation prior: 0.003 rad (0.17 deg) per axis, 0..pi (0 = none). A
+    // lander knows its attitude from its IMU far better than its position, and without the
+    // prior a narrow view of near-planar ground along the optical axis cannot tell a small
+    // rotation from a change of translation direction (docs/app.md "Accuracy").
+    double attitude_sigma_rad = 0.003;
     // After refinement the sweep's depth range is the inlier features' depth range
     // widened by this fraction of their median depth on each side (the odometry's height
     // above the datum may be off by far more than the relief near the ground). 0..0.9.
@@ -152,7 +154,6 @@ private:
     [[nodiscard]] Status poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept;
     [[nodiscard]] Status planGeometry() noexcept;
     [[nodiscard]] Status refinePose() noexcept;
-    [[nodiscard]] Status matchFeatures(const features::MatchPrediction& prediction) noexcept;
     [[nodiscard]] Status depthRangeFromFeatures() noexcept;
     [[nodiscard]] Status setSweepRange(double zmin, double zmax) noexcept;
     [[nodiscard]] Status runSweep() noexcept;
@@ -167,18 +168,10 @@ private:
     hal::EventLog* events_ = nullptr;
     CameraModel model_{};
     descent::PlaneSweep sweep_{};
-    features::ForstnerDetector detector_{};
-    features::TemplateMatcher matcher_{};
-    motion::MotionRefiner refiner_{};
-    features::FeatureSet features_{};
-    features::MatchSet matches_{};
-    Vec2 pixels_a_[features::kMaxFeatures];
-    Vec2 pixels_b_[features::kMaxFeatures];
-    double ranges_[features::kMaxFeatures] = {};     // refined range along image 1's ray (NaN: outlier)
-    std::uint8_t inliers_[features::kMaxFeatures] = {};
+    refine::PairRefiner refiner_{};
+    refine::Result refined_{};         // the refine stage's matches, inliers, ranges, motion
     ImageView<std::uint8_t> grey1_{};  // 8-bit copies for the feature modules
     ImageView<std::uint8_t> grey2_{};
-    ImageView<std::uint8_t> visible_{};  // image 1's part that image 2 sees (prediction)
     ImageView<std::uint16_t> image1_{};
     ImageView<std::uint16_t> image2_{};
     ImageView<float> depth_{};

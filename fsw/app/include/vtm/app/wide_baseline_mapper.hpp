@@ -10,12 +10,13 @@
 //   pose2        the pose at image 2's timestamp
 //   geometry     camera poses from the vehicle poses and the mount; the baseline must be
 //                at least min_baseline_m
-//   refine       Förstner features of image 1 where image 2 sees it (visibility from the
-//                odometry and the ground plane under the camera), guided template matching
-//                into image 2 inside the region that the odometry and the range interval
-//                predict, MotionRefiner (LM over rotation and translation direction, one
-//                depth per feature; the baseline length stays the odometry's); camera 2's
-//                pose is replaced by the refined one
+//   refine       refine::PairRefiner on the ground scene (docs/refine.md): Förstner
+//                features of image 1 where image 2 sees it (visibility from the odometry and
+//                the ground plane under the camera), guided template matching into image 2
+//                inside the region that the odometry and the range interval predict,
+//                MotionRefiner (LM over rotation and translation direction, one depth per
+//                feature; the baseline length stays the odometry's); camera 2's pose is
+//                replaced by the refined one
 //   rectify      Fusiello rectification of the refined pair and both remapped images
 //   stereo       the disparity window (stereo.d_max - stereo.d_min + 1 disparities) is
 //                placed on the refined features' rectified disparities
@@ -51,6 +52,7 @@
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
+#include "vtm/refine/pair_refiner.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 #include "vtm/stereo/speckle_filter.hpp"
 #include "vtm/terrain/height_map.hpp"
@@ -64,15 +66,20 @@ namespace vtm::app {
 [[nodiscard]] stereo::Config wideBaselineStereoConfig() noexcept;
 
 struct WideBaselineMapperConfig {
-    // Capacities: the camera's frame size. rectify.max_width/max_height, detector.* and
-    // matcher.* must equal it; the rectified size (rectify.out_* or the frame size) must
-    // equal stereo.max_width/max_height.
+    // Capacities: the camera's frame size. rectify.max_width/max_height and
+    // refine.max_width/max_height (with its detector's and matcher's) must equal it; the
+    // rectified size (rectify.out_* or the frame size) must equal stereo.max_width/max_height.
     std::int32_t frame_width = 1024;
     std::int32_t frame_height = 1024;
     CameraMount mount{};  // the mast camera on the rover
-    features::DetectorConfig detector{};
-    features::MatcherConfig matcher{};
-    motion::MotionConfig motion{};          // its range limits are replaced by range_*_m
+    // The pose refinement (stage refine): detector, matcher, motion, the matching window
+    // around the odometry's prediction (refine.match_margin_px, image-2 pixels: a heading
+    // error of ~2.3 deg at fx ~1236 px with half again as margin, 75 px by default) and the
+    // visibility margin. The motion's range limits are replaced by range_*_m.
+    refine::Config refine{};
+    // 1-sigma per axis of the odometry's relative rotation between the frames, radians,
+    // 0..pi: the refiner's rotation prior. 0 = none (the rover's heading error is large).
+    double attitude_sigma_rad = 0.0;
     rectify::RectifyConfig rectify{};       // its range limits are replaced by range_*_m
     stereo::Config stereo = wideBaselineStereoConfig();  // d_min must be 0 (the window is placed per pair)
     terrain::TriangulationLimits limits{};  // its range limits are replaced by range_*_m
@@ -80,9 +87,6 @@ struct WideBaselineMapperConfig {
     // refiner's clamp, the rectifier's disparity bounds, the triangulation's limits.
     double range_min_m = 3.0;
     double range_max_m = 200.0;
-    // Matching window around the odometry's prediction, image-2 pixels (heading error of
-    // ~2.3 deg at fx ~1236 px, with half again as margin). 0..1000.
-    double match_margin_px = 75.0;
     double min_baseline_m = 0.2;  // shorter drives are refused (kDegenerate), 0.01..100
     // How far the terrain may lie below the ground the rover stands on (craters, down
     // slopes), metres, 0..1000: along a ray that points down the terrain is hit no farther
@@ -180,7 +184,6 @@ private:
     [[nodiscard]] Status poseOf(Stage stage, const hal::FrameInfo& info, hal::PoseEstimate& pose) noexcept;
     [[nodiscard]] Status planGeometry() noexcept;
     [[nodiscard]] Status refinePose() noexcept;
-    [[nodiscard]] Status matchFeatures(const features::MatchPrediction& prediction) noexcept;
     [[nodiscard]] Status runRectify() noexcept;
     [[nodiscard]] Status placeDisparityWindow() noexcept;
     [[nodiscard]] Status runStereo() noexcept;
@@ -194,23 +197,16 @@ private:
     const hal::Clock* clock_ = nullptr;
     hal::EventLog* events_ = nullptr;
     CameraModel model_{};
-    features::ForstnerDetector detector_{};
-    features::TemplateMatcher matcher_{};
-    motion::MotionRefiner refiner_{};
+    refine::PairRefiner refiner_{};
+    refine::Result refined_{};  // the refine stage's matches, inliers, motion
     rectify::Rectifier rectifier_{};
     stereo::MlStereo stereo_{};
     stereo::SpeckleFilter speckle_{};
     terrain::HeightMap map_{};
-    features::FeatureSet features_{};
-    features::MatchSet matches_{};
-    Vec2 pixels_a_[features::kMaxFeatures];
-    Vec2 pixels_b_[features::kMaxFeatures];
     double disparities_[features::kMaxFeatures] = {};  // rectified disparities of the inliers (sorted by the placement)
-    std::uint8_t inliers_[features::kMaxFeatures] = {};
     ImageView<std::uint16_t> frame16_{};  // staging frame of a camera of more than 8 bits
     ImageView<std::uint8_t> grey1_{};
     ImageView<std::uint8_t> grey2_{};
-    ImageView<std::uint8_t> visible_{};
     ImageView<std::uint8_t> rect1_{};
     ImageView<std::uint8_t> rect2_{};
     ImageView<std::int16_t> disparity_{};

@@ -2,8 +2,8 @@
 // the region that odometry and a range interval predict, coarse to fine with normalised
 // correlation (NCC), then checked by matching back from B to A (docs/features.md).
 //
-// Geometry (shared with fsw/motion and fsw/rectify): cameras A and B are
-// vtm::CameraModel's, each in its own reference frame; X_b = R_b_from_a X_a + t_b_from_a_m.
+// Geometry (shared with fsw/motion and fsw/rectify): a vtm::CameraPair (vtm/core/pose.hpp):
+// cameras A and B, each in its own reference frame, and b_from_a: X_b = R X_a + t_m.
 // A feature's range is the distance along A's back-projected ray from the ray's origin.
 //
 // Per feature (all bounded, see the constants below):
@@ -44,6 +44,7 @@
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/core/image.hpp"
+#include "vtm/core/pose.hpp"
 #include "vtm/core/span.hpp"
 #include "vtm/core/status.hpp"
 #include "vtm/features/affine_refine.hpp"
@@ -58,10 +59,7 @@ constexpr std::int32_t kRefineRadius = 2;              // +-px searched at each 
 
 // The search region in B for a feature of A.
 struct MatchPrediction {
-    const CameraModel* model_a = nullptr;
-    const CameraModel* model_b = nullptr;
-    Mat3 R_b_from_a = Mat3::Identity();
-    Vec3 t_b_from_a_m = Vec3::Zero();                 // from odometry
+    CameraPair pair{};                                // models and b_from_a (from odometry)
     double range_min_m = 1.0, range_max_m = 100.0;    // along A's ray; 0 < min < max, finite
     double margin_px = 40.0;                          // odometry uncertainty around the predicted segment, >= 0
     // Unit normal of the local terrain (site "up") in A's reference frame, from the
@@ -110,11 +108,11 @@ public:
     [[nodiscard]] static std::size_t workspaceBytes(const MatcherConfig& config) noexcept;
     [[nodiscard]] Status init(const MatcherConfig& config, Arena& arena) noexcept;
     // Matches features_a (found in image_a) into image_b. Errors (out.count = 0):
-    // kNotInitialized; kInvalidArgument: an empty image, a null model, features_a.count
+    // kNotInitialized; kInvalidArgument: an empty image, features_a.count
     // outside 0..kMaxFeatures, range_min_m <= 0, range_min_m >= range_max_m, a non-finite
     // range or margin, margin_px < 0, surface_normal_a neither zero nor of norm 0.5..2
     // (it is normalised); kSizeMismatch: an image over the capacity, or a
-    // model whose width_px/height_px differ from its image. A feature without a match is
+    // pair model whose width_px/height_px differ from its image. A feature without a match is
     // not an error: it is counted in stats.
     [[nodiscard]] Status match(const ImageView<const std::uint8_t>& image_a,
                                const ImageView<const std::uint8_t>& image_b, const FeatureSet& features_a,

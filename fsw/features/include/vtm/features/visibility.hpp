@@ -25,9 +25,9 @@ struct VisibilityPrior {
     std::int32_t stride_px = 8;     // the prediction is made every stride_px pixels (1..64), blocks filled
 };
 
-// mask: A's size (model_a's width_px x height_px), written 1 (visible) / 0. Uses
-// prediction's models, relative pose and range interval. kInvalidArgument naming the input
-// (null models, bad ranges, zero up vector, height <= 0, stride out of range);
+// mask: A's size (pair.model_a's width_px x height_px), written 1 (visible) / 0. Uses
+// prediction's pair (models, b_from_a) and range interval. kInvalidArgument naming the input
+// (bad ranges, zero up vector, height <= 0, stride out of range);
 // kSizeMismatch for a mask of another size. Returns the visible pixel count in `visible`.
 [[nodiscard]] Status predictVisibility(const MatchPrediction& prediction, const VisibilityPrior& prior,
                                        const ImageView<std::uint8_t>& mask, std::int64_t& visible) noexcept;

@@ -4,8 +4,8 @@
 // "Motion refinement").
 //
 // Geometry (shared with fsw/features and fsw/rectify):
-//  - Cameras A and B are vtm::CameraModel, each in its own camera reference frame
-//    (vtm/core/camera_model.hpp). X_b = R_b_from_a * X_a + t_b_from_a_m (metres).
+//  - A vtm::CameraPair (vtm/core/pose.hpp): cameras A and B, each a vtm::CameraModel in
+//    its own camera reference frame, and b_from_a: X_b = R * X_a + t_m (metres).
 //  - Match i: pixels_a[i] in A and pixels_b[i] in B. Its point lies on A's ray through
 //    pixels_a[i]: X_a = origin + direction / rho_i, rho_i = 1 / range_i (1/m), range
 //    measured along the unit ray from A's projection centre.
@@ -27,6 +27,7 @@
 
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/eigen.hpp"
+#include "vtm/core/pose.hpp"
 #include "vtm/core/span.hpp"
 #include "vtm/core/status.hpp"
 
@@ -63,10 +64,8 @@ struct MotionConfig {
 };
 
 struct MotionInput {
-    const CameraModel* model_a = nullptr;
-    const CameraModel* model_b = nullptr;
-    Mat3 R_b_from_a = Mat3::Identity();   // initial (odometry); a rotation within 1e-6
-    Vec3 t_b_from_a_m = Vec3::Zero();     // initial (odometry); its norm is kept
+    // Models and the initial (odometry) b_from_a: R a rotation within 1e-6, t_m's norm is kept.
+    CameraPair pair{};
     Span<const Vec2> pixels_a;            // match i: pixels_a[i] <-> pixels_b[i]
     Span<const Vec2> pixels_b;
 };
@@ -114,10 +113,9 @@ public:
     //  3. The result (covariance, rms_px, inlier_flags, ranges_m) describes the final
     //     motion and the inliers classified at it.
     // Errors:
-    //  kInvalidArgument: null model ("model_a: null"), a model failing
-    //    validateCameraModel (its reason), pixels_a / pixels_b of different sizes,
-    //    more than kMaxMotionMatches, a non-finite or non-rotation R_b_from_a, a
-    //    non-finite or zero t_b_from_a_m, a non-finite pixel (detail = match index),
+    //  kInvalidArgument: a pair model failing validateCameraModel (its reason),
+    //    pixels_a / pixels_b of different sizes, more than kMaxMotionMatches, a
+    //    non-finite or non-rotation pair.b_from_a.R, a non-finite or zero pair.b_from_a.t_m, a non-finite pixel (detail = match index),
     //    inlier_flags / ranges_m not empty and not of the matches' size.
     //  kInvalidConfig: config.validate().
     //  kDegenerate: fewer than min_inliers usable matches or inliers after a pass

@@ -2,10 +2,10 @@
 // principal-point shift of the 2003 revision) and resampling through fixed-point remap
 // tables that also remove lens distortion. docs/rectify.md.
 //
-// Geometry convention (shared with fsw/features and fsw/motion): camera A ("left", the
-// first image) and camera B ("right", the second), each a vtm::CameraModel in its own
-// reference frame; X_b = R_b_from_a X_a + t_b_from_a_m. Pixel (0, 0) is the centre of the
-// top-left pixel.
+// Geometry convention (shared with fsw/features and fsw/motion): a vtm::CameraPair
+// (vtm/core/pose.hpp): camera A ("left", the first image) and camera B ("right", the
+// second), each a vtm::CameraModel in its own reference frame, and b_from_a:
+// X_b = R X_a + t_m. Pixel (0, 0) is the centre of the top-left pixel.
 //
 // Memory: two remap tables of max_width x max_height entries (two int16 each), carved
 // from an Arena at init(); compute(), remap() and the point maps never allocate.
@@ -20,6 +20,7 @@
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/core/image.hpp"
+#include "vtm/core/pose.hpp"
 #include "vtm/core/span.hpp"
 #include "vtm/core/status.hpp"
 #include "vtm/rectify/linear_camera.hpp"
@@ -41,10 +42,7 @@ struct RectifyConfig {
 };
 
 struct RectifyInput {
-    const CameraModel* model_a = nullptr;
-    const CameraModel* model_b = nullptr;
-    Mat3 R_b_from_a = Mat3::Identity();
-    Vec3 t_b_from_a_m = Vec3::Zero();
+    CameraPair pair{};  // the two input models and b_from_a
 };
 
 struct RectifiedPair {
@@ -89,9 +87,9 @@ public:
     // through the FULL input model). Errors, after which the point maps and remap() answer
     // kNotInitialized until a compute() succeeds:
     //   kNotInitialized  init() has not succeeded;
-    //   kInvalidArgument null or invalid model (validateCameraModel's reason), a model
-    //                    side above kMaxImageSide, R_b_from_a not a rotation (1e-9) or a
-    //                    non-finite pose, a mirrored CAHV;
+    //   kInvalidArgument an invalid model (validateCameraModel's reason), a model
+    //                    side above kMaxImageSide, pair.b_from_a.R not a rotation (1e-9)
+    //                    or a non-finite pose, a mirrored CAHV;
     //   kSizeMismatch    rectified size (out_* or A's size) above max_width/max_height;
     //   kDegenerate      baseline below 1e-9 m, or within min_baseline_angle_deg of A's
     //                    optical axis, or an image centre ray behind the rectified plane.
