@@ -98,8 +98,6 @@ DescentMapperConfig smallConfig() {
     c.sweep.window = 7;  // 256 x 256: the default 11 is for 1024 x 1024 (docs/descent.md)
     c.mount = mountOf(world().frames.frames[0]);
     c.grid_cells = 128;  // cells of two pixels: the whole footprint of image 1
-    c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = kSize;
-    c.refine.max_height = c.refine.detector.max_height = c.refine.matcher.max_height = kSize;
     c.refine.detector.grid_cols = 8;
     c.refine.detector.grid_rows = 8;
     c.refine.detector.per_cell = 4;
@@ -418,12 +416,13 @@ TEST_F(DescentMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     bad.sweep.planes = 1;
     EXPECT_NE(reasonOf(bad).find("planes"), std::string::npos);
     EXPECT_EQ(DescentMapper::workspaceBytes(bad), 0U);
-    bad = c;
-    bad.refine.detector.max_width = 128;
-    EXPECT_NE(reasonOf(bad).find("refine.detector.max_width"), std::string::npos);
-    bad = c;
-    bad.refine.max_width = bad.refine.detector.max_width = bad.refine.matcher.max_width = 128;
-    EXPECT_NE(reasonOf(bad).find("refine.max_width/max_height: must equal sweep"), std::string::npos);
+    // The frame size is stated once (sweep.max_width/max_height): the refinement's
+    // capacities are set from it, whatever its own fields say.
+    DescentMapperConfig other = c;
+    other.refine.max_width = other.refine.detector.max_width = other.refine.matcher.max_width = 128;
+    other.refine.max_height = 77;
+    EXPECT_TRUE(other.validate().isOk());
+    EXPECT_EQ(DescentMapper::workspaceBytes(other), DescentMapper::workspaceBytes(c));
     bad = c;
     bad.refine.motion.max_iterations = 0;
     EXPECT_NE(reasonOf(bad).find("max_iterations"), std::string::npos);
@@ -432,7 +431,6 @@ TEST_F(DescentMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     EXPECT_NE(reasonOf(bad).find("attitude_sigma_rad"), std::string::npos);
     bad = c;
     bad.sweep.max_width = 64;
-    bad.refine.max_width = bad.refine.detector.max_width = bad.refine.matcher.max_width = 64;
     const Status size = start(bad, DescentMapper::workspaceBytes(bad));
     EXPECT_EQ(size.code(), StatusCode::kSizeMismatch);
     EXPECT_NE(std::string(size.reason()).find("camera:"), std::string::npos);

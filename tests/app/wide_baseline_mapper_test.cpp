@@ -91,11 +91,7 @@ CameraMount mountOf(const sim::ScenarioFrame& f) {
 
 WideBaselineMapperConfig configFor(std::int32_t size) {
     WideBaselineMapperConfig c;
-    c.frame_width = c.frame_height = size;
-    c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = size;
-    c.refine.max_height = c.refine.detector.max_height = c.refine.matcher.max_height = size;
-    c.rectify.max_width = c.stereo.max_width = size;
-    c.rectify.max_height = c.stereo.max_height = size;
+    c.frame_width = c.frame_height = size;  // every module's capacity follows from it
     c.mount = mountOf(world().frames.frames[0]);
     c.refine.match_margin_px = 75.0 * static_cast<double>(size) / 1024.0;
     c.speckle.max_region_px = 100 * size / 1024 * size / 1024;  // the same share of the image
@@ -389,18 +385,18 @@ TEST_F(WideBaselineMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     c.stereo.d_min = 1;
     c.stereo.d_max = 128;
     named(c, "stereo.d_min");
-    c = good;
-    c.refine.matcher.max_width = kSize / 2;
-    named(c, "refine.matcher.max_width");
+    // The frame size is stated once (frame_width/frame_height): the modules' capacities are
+    // set from it, whatever their own fields say.
     c = good;
     c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = kSize / 2;
-    named(c, "refine.max_width/max_height: must equal frame_width");
+    c.rectify.max_height = 17;
+    c.stereo.max_height = kSize / 2;
+    c.speckle.max_width = 3;
+    EXPECT_TRUE(c.validate().isOk());
+    EXPECT_EQ(WideBaselineMapper::workspaceBytes(c), WideBaselineMapper::workspaceBytes(good));
     c = good;
     c.attitude_sigma_rad = 4.0;
     named(c, "attitude_sigma_rad");
-    c = good;
-    c.stereo.max_height = kSize / 2;
-    named(c, "stereo.max_width/max_height");
     c = good;
     c.range_max_m = c.range_min_m;
     named(c, "range_min_m/range_max_m");

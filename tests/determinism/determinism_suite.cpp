@@ -458,8 +458,8 @@ void hashRectification(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba,
 // the ground scene and on the general scene: refined pose, counts, every inlier's range.
 void hashRefine(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, Hasher& h) noexcept {
     refine::Config c;
-    c.max_width = c.detector.max_width = c.matcher.max_width = WidePair::kW;
-    c.max_height = c.detector.max_height = c.matcher.max_height = WidePair::kH;
+    c.max_width = WidePair::kW;
+    c.max_height = WidePair::kH;
     c.detector.grid_cols = 8;
     c.detector.grid_rows = 6;
     c.matcher.pyramid_levels = 1;

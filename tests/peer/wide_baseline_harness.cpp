@@ -522,8 +522,8 @@ void scoreMatches(const RenderedPair& pair, const refine::Result& res, FrontEndR
 
 refine::Config frontEndConfig(const RenderedPair& pair, const FrontEndSpec& spec) {
     refine::Config c;
-    c.max_width = c.detector.max_width = c.matcher.max_width = pair.width;
-    c.max_height = c.detector.max_height = c.matcher.max_height = pair.height;
+    c.max_width = pair.width;
+    c.max_height = pair.height;
     c.matcher.min_score = spec.min_score;
     c.matcher.template_window = spec.template_window;
     c.matcher.pyramid_levels = spec.pyramid_levels;

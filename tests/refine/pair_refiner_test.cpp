@@ -87,8 +87,8 @@ const Pair& pair() {
 
 Config smallConfig() {
     Config c;
-    c.max_width = c.detector.max_width = c.matcher.max_width = kW;
-    c.max_height = c.detector.max_height = c.matcher.max_height = kH;
+    c.max_width = kW;  // the detector's and the matcher's capacity follow from it
+    c.max_height = kH;
     c.detector.grid_cols = 12;
     c.detector.grid_rows = 9;
     c.detector.per_cell = 3;
@@ -264,12 +264,15 @@ TEST(PairRefiner, InvalidConfigsAreNamed) {
     Config c = good;
     c.max_width = 0;
     expectNamed(c, "refine.max_width");
+    // The capacity is stated once (max_width/max_height): the detector's and the
+    // matcher's own fields are not read.
     c = good;
     c.detector.max_width = kW / 2;
-    expectNamed(c, "refine.detector.max_width");
-    c = good;
-    c.matcher.max_height = kH / 2;
-    expectNamed(c, "refine.matcher.max_width/max_height");
+    c.matcher.max_height = 0;
+    EXPECT_TRUE(c.validate().isOk());
+    EXPECT_EQ(PairRefiner::workspaceBytes(c), PairRefiner::workspaceBytes(good));
+    EXPECT_EQ(c.detectorConfig().max_width, kW);
+    EXPECT_EQ(c.matcherConfig().max_height, kH);
     c = good;
     c.match_margin_px = -1.0;
     expectNamed(c, "refine.match_margin_px");

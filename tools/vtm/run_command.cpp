@@ -105,8 +105,8 @@ app::DescentMapperConfig configFor(const World& w) {
     app::DescentMapperConfig c;
     const std::int32_t width = f.model.width_px;
     const std::int32_t height = f.model.height_px;
-    c.sweep.max_width = c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = width;
-    c.sweep.max_height = c.refine.max_height = c.refine.detector.max_height = c.refine.matcher.max_height = height;
+    c.sweep.max_width = width;  // the frame size; the refinement's capacity follows from it
+    c.sweep.max_height = height;
     if (std::max(width, height) < 512) {
         c.sweep.window = 7;
         c.sweep.planes = 32;

@@ -33,10 +33,8 @@ app::WideBaselineMapperConfig configFor(const sim::ScenarioFrame& f) {
     app::WideBaselineMapperConfig c;
     const std::int32_t w = f.model.width_px;
     const std::int32_t h = f.model.height_px;
-    c.frame_width = c.refine.max_width = c.refine.detector.max_width = c.refine.matcher.max_width = w;
-    c.rectify.max_width = c.stereo.max_width = w;
-    c.frame_height = c.refine.max_height = c.refine.detector.max_height = c.refine.matcher.max_height = h;
-    c.rectify.max_height = c.stereo.max_height = h;
+    c.frame_width = w;  // the modules' capacities follow from the frame size
+    c.frame_height = h;
     c.refine.match_margin_px = 75.0 * static_cast<double>(std::max(w, h)) / 1024.0;  // the heading error in pixels
     // Speckles: the default's share of a 1024 x 1024 image (100 px).
     c.speckle.max_region_px = static_cast<std::int32_t>(100LL * w * h / (1024LL * 1024LL));

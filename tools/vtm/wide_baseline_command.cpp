@@ -136,8 +136,8 @@ struct RefineRun {
 // the --range interval.
 std::string refinePair(const WideBaselineOptions& o, const PairInputs& in, RefineRun& run) {
     refine::Config c;
-    c.max_width = c.detector.max_width = c.matcher.max_width = std::max(in.image1.width, in.image2.width);
-    c.max_height = c.detector.max_height = c.matcher.max_height = std::max(in.image1.height, in.image2.height);
+    c.max_width = std::max(in.image1.width, in.image2.width);
+    c.max_height = std::max(in.image1.height, in.image2.height);
     c.match_margin_px = o.margin_px;
     run.pool.assign(refine::PairRefiner::workspaceBytes(c), std::byte{0});
     run.arena = std::make_unique<Arena>(run.pool.data(), run.pool.size());

@@ -36,6 +36,15 @@ terrain::HeightMapConfig heightMapOf(const DescentMapperConfig& c) noexcept {
     return m;
 }
 
+// The refinement's configuration with its capacity from the sweep's (the camera's frame
+// size, stated once in sweep.max_width/max_height).
+refine::Config refineConfigOf(const DescentMapperConfig& c) noexcept {
+    refine::Config r = c.refine;
+    r.max_width = c.sweep.max_width;
+    r.max_height = c.sweep.max_height;
+    return r;
+}
+
 using detail::carve;
 using detail::toGrey8;
 
@@ -58,10 +67,7 @@ Status DescentMapperConfig::validate() const noexcept {
         return invalid("parallax_factor: must be 0..1000");
     }
     if (refine_pose) {
-        VTM_RETURN_IF_ERROR(refine.validate());
-        if (refine.max_width != sweep.max_width || refine.max_height != sweep.max_height) {
-            return invalid("refine.max_width/max_height: must equal sweep.max_width/max_height", refine.max_width);
-        }
+        VTM_RETURN_IF_ERROR(refineConfigOf(*this).validate());
         if (!detail::inRange(attitude_sigma_rad, 0.0, math::kPi)) {
             return invalid("attitude_sigma_rad: must be 0..pi");
         }
@@ -87,7 +93,7 @@ std::size_t DescentMapper::workspaceBytes(const DescentMapperConfig& config) noe
     }
     const Buffers b = buffersOf(config);
     const std::size_t refine = config.refine_pose
-                                   ? refine::PairRefiner::workspaceBytes(config.refine)  // its own plan
+                                   ? refine::PairRefiner::workspaceBytes(refineConfigOf(config))  // its own plan
                                          + 2U * Arena::arrayBytes<std::uint8_t>(b.pixels)  // 8-bit frames
                                    : 0U;
     return refine + descent::PlaneSweep::workspaceBytes(config.sweep)  // the sweep's own plan
@@ -119,7 +125,7 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
     reason_ = carve<std::uint8_t>(arena, w, h);
     VTM_RETURN_IF_ERROR(map_.init(heightMapOf(config), arena));
     if (config.refine_pose) {
-        VTM_RETURN_IF_ERROR(refiner_.init(config.refine, arena));
+        VTM_RETURN_IF_ERROR(refiner_.init(refineConfigOf(config), arena));
         grey1_ = carve<std::uint8_t>(arena, w, h);
         grey2_ = carve<std::uint8_t>(arena, w, h);
         if (grey1_.data() == nullptr || grey2_.data() == nullptr) {

@@ -37,9 +37,18 @@ Sizes sizesOf(const WideBaselineMapperConfig& c) noexcept {
     return s;
 }
 
-// The sub-configurations with the mapper's range interval in them.
+// The sub-configurations with what the mapper states once in them: the capacities from
+// the frame size (the stereo's from the rectified size) and the range interval.
+refine::Config refineConfigOf(const WideBaselineMapperConfig& c) noexcept {
+    refine::Config r = c.refine;
+    r.max_width = c.frame_width;
+    r.max_height = c.frame_height;
+    return r;
+}
 rectify::RectifyConfig rectifyConfigOf(const WideBaselineMapperConfig& c) noexcept {
     rectify::RectifyConfig r = c.rectify;
+    r.max_width = c.frame_width;
+    r.max_height = c.frame_height;
     r.range_min_m = c.range_min_m;
     r.range_max_m = c.range_max_m;
     return r;
@@ -51,10 +60,16 @@ terrain::TriangulationLimits limitsOf(const WideBaselineMapperConfig& c) noexcep
     return l;
 }
 
+stereo::Config stereoConfigOf(const WideBaselineMapperConfig& c) noexcept {
+    stereo::Config s = c.stereo;
+    s.max_width = rectifiedWidth(c);
+    s.max_height = rectifiedHeight(c);
+    return s;
+}
 stereo::SpeckleConfig speckleConfigOf(const WideBaselineMapperConfig& c) noexcept {
     stereo::SpeckleConfig s = c.speckle;
-    s.max_width = c.stereo.max_width;
-    s.max_height = c.stereo.max_height;
+    s.max_width = rectifiedWidth(c);
+    s.max_height = rectifiedHeight(c);
     return s;
 }
 
@@ -73,25 +88,15 @@ Status WideBaselineMapperConfig::validate() const noexcept {
         return invalid("frame_width/frame_height: must be 16..4094", frame_width);
     }
     VTM_RETURN_IF_ERROR(validateMount(mount));
-    VTM_RETURN_IF_ERROR(refine.validate());
+    VTM_RETURN_IF_ERROR(refineConfigOf(*this).validate());
     if (!math::isFinite(range_min_m) || !math::isFinite(range_max_m) || !(range_min_m > 0.0) ||
         !(range_max_m > range_min_m)) {
         return invalid("range_min_m/range_max_m: need 0 < range_min_m < range_max_m, finite");
     }
     VTM_RETURN_IF_ERROR(rectifyConfigOf(*this).validate());
-    VTM_RETURN_IF_ERROR(stereo.validate());
+    VTM_RETURN_IF_ERROR(stereoConfigOf(*this).validate());
     VTM_RETURN_IF_ERROR(limitsOf(*this).validate());
     VTM_RETURN_IF_ERROR(height_map.validate());
-    if (refine.max_width != frame_width || refine.max_height != frame_height) {
-        return invalid("refine.max_width/max_height: must equal frame_width/frame_height", refine.max_width);
-    }
-    if (rectify.max_width != frame_width || rectify.max_height != frame_height) {
-        return invalid("rectify.max_width/max_height: must equal frame_width/frame_height", rectify.max_width);
-    }
-    if (stereo.max_width != rectifiedWidth(*this) || stereo.max_height != rectifiedHeight(*this)) {
-        return invalid("stereo.max_width/max_height: must equal the rectified size (rectify.out_* or the frame size)",
-                       stereo.max_width);
-    }
     if (stereo.d_min != 0) {
         return invalid("stereo.d_min: must be 0 (the mapper places the disparity window per pair)", stereo.d_min);
     }
@@ -113,9 +118,9 @@ std::size_t WideBaselineMapper::workspaceBytes(const WideBaselineMapperConfig& c
         return 0U;
     }
     const Sizes s = sizesOf(config);
-    return refine::PairRefiner::workspaceBytes(config.refine)  // each module's own plan
+    return refine::PairRefiner::workspaceBytes(refineConfigOf(config))  // each module's own plan
            + rectify::Rectifier::workspaceBytes(rectifyConfigOf(config)) +
-           stereo::MlStereo::workspaceBytes(config.stereo) +
+           stereo::MlStereo::workspaceBytes(stereoConfigOf(config)) +
            stereo::SpeckleFilter::workspaceBytes(speckleConfigOf(config)) +
            terrain::HeightMap::workspaceBytes(config.height_map) +
            Arena::arrayBytes<std::uint16_t>(s.frame)              // staging frame of a > 8-bit camera
@@ -142,9 +147,9 @@ Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& a
         return Status(StatusCode::kInvalidArgument, model_ok.reason(), model_ok.detail());
     }
     const std::size_t before = arena.usedBytes();
-    VTM_RETURN_IF_ERROR(refiner_.init(config.refine, arena));
+    VTM_RETURN_IF_ERROR(refiner_.init(refineConfigOf(config), arena));
     VTM_RETURN_IF_ERROR(rectifier_.init(rectifyConfigOf(config), arena));
-    VTM_RETURN_IF_ERROR(stereo_.init(config.stereo, arena));
+    VTM_RETURN_IF_ERROR(stereo_.init(stereoConfigOf(config), arena));
     VTM_RETURN_IF_ERROR(speckle_.init(speckleConfigOf(config), arena));
     VTM_RETURN_IF_ERROR(map_.init(config.height_map, arena));
     const std::int32_t w = config.frame_width;

@@ -70,21 +70,27 @@ Status checkImage(const ImageView<const std::uint8_t>& image, const CameraModel&
 
 }  // namespace
 
+features::DetectorConfig Config::detectorConfig() const noexcept {
+    features::DetectorConfig d = detector;
+    d.max_width = max_width;
+    d.max_height = max_height;
+    return d;
+}
+
+features::MatcherConfig Config::matcherConfig() const noexcept {
+    features::MatcherConfig m = matcher;
+    m.max_width = max_width;
+    m.max_height = max_height;
+    return m;
+}
+
 Status Config::validate() const noexcept {
     if (max_width < 1 || max_width > kMaxSide || max_height < 1 || max_height > kMaxSide) {
         return invalid("refine.max_width/max_height: must be 1..4096", max_width);
     }
-    VTM_RETURN_IF_ERROR(detector.validate());
-    VTM_RETURN_IF_ERROR(matcher.validate());
+    VTM_RETURN_IF_ERROR(detectorConfig().validate());
+    VTM_RETURN_IF_ERROR(matcherConfig().validate());
     VTM_RETURN_IF_ERROR(motion.validate());
-    if (detector.max_width != max_width || detector.max_height != max_height) {
-        return invalid("refine.detector.max_width/max_height: must equal refine.max_width/max_height",
-                       detector.max_width);
-    }
-    if (matcher.max_width != max_width || matcher.max_height != max_height) {
-        return invalid("refine.matcher.max_width/max_height: must equal refine.max_width/max_height",
-                       matcher.max_width);
-    }
     if (!inRange(match_margin_px, 0.0, 1000.0)) {
         return invalid("refine.match_margin_px: must be 0..1000");
     }
@@ -98,8 +104,8 @@ std::size_t PairRefiner::workspaceBytes(const Config& config) noexcept {
     if (!config.validate().isOk()) {
         return 0U;
     }
-    return features::ForstnerDetector::workspaceBytes(config.detector)  // each module's own plan
-           + features::TemplateMatcher::workspaceBytes(config.matcher) +
+    return features::ForstnerDetector::workspaceBytes(config.detectorConfig())  // each module's own plan
+           + features::TemplateMatcher::workspaceBytes(config.matcherConfig()) +
            Arena::arrayBytes<std::uint8_t>(pixelsOf(config))  // visibility mask
            + objectBytes<motion::MotionRefiner>(1U) + objectBytes<features::FeatureSet>(1U) +
            objectBytes<features::MatchSet>(1U) + 2U * objectBytes<Vec2>(kMatches)  // matched pixels a, b
@@ -110,8 +116,8 @@ std::size_t PairRefiner::workspaceBytes(const Config& config) noexcept {
 Status PairRefiner::init(const Config& config, Arena& arena) noexcept {
     initialized_ = false;
     VTM_RETURN_IF_ERROR(config.validate());
-    VTM_RETURN_IF_ERROR(detector_.init(config.detector, arena));
-    VTM_RETURN_IF_ERROR(matcher_.init(config.matcher, arena));
+    VTM_RETURN_IF_ERROR(detector_.init(config.detectorConfig(), arena));
+    VTM_RETURN_IF_ERROR(matcher_.init(config.matcherConfig(), arena));
     const Span<std::uint8_t> mask = arena.allocateArray<std::uint8_t>(pixelsOf(config));
     refiner_ = construct<motion::MotionRefiner>(arena, 1U);
     features_ = construct<features::FeatureSet>(arena, 1U);

@@ -71,8 +71,8 @@ struct DescentMapperConfig {
     // (0.25 px / P) of the range width: 20 keeps pixels known to ~1.25 % of the range
     // (docs/app.md has the measured trade-off). 0..1000.
     double parallax_factor = 20.0;
-    // Relative-pose refinement from the images (stage refine). refine.max_width/max_height
-    // (with its detector's and matcher's) must be the camera's frame size; the motion's
+    // Relative-pose refinement from the images (stage refine). Its capacity is set from
+    // sweep.max_width/max_height (the camera's frame size, stated once there); the motion's
     // range limits are replaced per pair by the depth range (widened to the image corners).
     bool refine_pose = true;
     refine::Config refine = descentRefineConfig();

@@ -66,9 +66,10 @@ namespace vtm::app {
 [[nodiscard]] stereo::Config wideBaselineStereoConfig() noexcept;
 
 struct WideBaselineMapperConfig {
-    // Capacities: the camera's frame size. rectify.max_width/max_height and
-    // refine.max_width/max_height (with its detector's and matcher's) must equal it; the
-    // rectified size (rectify.out_* or the frame size) must equal stereo.max_width/max_height.
+    // Capacities, stated once: the camera's frame size. The mapper sets refine's and
+    // rectify's max_width/max_height from it, and stereo's and speckle's from the rectified
+    // size (rectify.out_* or the frame size); those fields of the sub-configurations are
+    // not read.
     std::int32_t frame_width = 1024;
     std::int32_t frame_height = 1024;
     CameraMount mount{};  // the mast camera on the rover

@@ -38,8 +38,9 @@
 namespace vtm::refine {
 
 struct Config {
-    // Capacity: the largest image A and B, pixels, 1..4096. detector.max_width/max_height
-    // and matcher.max_width/max_height must equal it.
+    // Capacity: the largest image A and B, pixels, 1..4096, stated here once: the
+    // detector's and the matcher's capacities are set from it (their max_width/max_height
+    // fields are not read; detectorConfig(), matcherConfig()).
     std::int32_t max_width = 1024;
     std::int32_t max_height = 1024;
     features::DetectorConfig detector{};
@@ -54,6 +55,9 @@ struct Config {
     // Ground scene: a pixel of A is a feature candidate only when its predicted point lies
     // at least this far inside B's image, pixels, 0..1000.
     double visibility_margin_px = 16.0;
+    // The detector's and the matcher's configurations with the capacity above.
+    [[nodiscard]] features::DetectorConfig detectorConfig() const noexcept;
+    [[nodiscard]] features::MatcherConfig matcherConfig() const noexcept;
     // kOk, or kInvalidConfig naming the field (sub-configurations as their validate()
     // names them).
     [[nodiscard]] Status validate() const noexcept;
