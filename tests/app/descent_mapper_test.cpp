@@ -281,11 +281,11 @@ std::vector<Flown> flyDescent(DescentMapper& mapper, const char* poses) {
         const MapError m = mapError(*p);
         const double altitude = -p->geometry.site_from_cam1.t_m.z();
         std::printf("| %s | %d | %.0f | %d / %d | %.3f | %.3f / %.3f | %.1f | %.3f | %.3f | %lld | %.3f |\n", poses,
-                    pair, altitude, p->matching.matched, p->motion.inliers, p->motion.rms_px, p->refine_rotation_deg,
-                    p->refine_direction_deg, 100.0 * static_cast<double>(e.count) / (kSize * kSize), 100.0 * e.median,
+                    pair, altitude, p->refine.matching.matched, p->refine.motion.inliers, p->refine.motion.rms_px, p->refine.rotation_change_deg,
+                    p->refine.direction_change_deg, 100.0 * static_cast<double>(e.count) / (kSize * kSize), 100.0 * e.median,
                     100.0 * e.p90, static_cast<long long>(p->cells_filled), 100.0 * m.median_m / altitude);
         EXPECT_EQ(m.cells, static_cast<std::size_t>(p->cells_filled));
-        out.push_back({e, m, altitude, p->refine_rotation_deg, p->refine_direction_deg});
+        out.push_back({e, m, altitude, p->refine.rotation_change_deg, p->refine.direction_change_deg});
     }
     return out;
 }

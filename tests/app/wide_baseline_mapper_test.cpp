@@ -191,7 +191,7 @@ RangeError rangeError(const WideBaselineProducts& p, const sim::ScenarioFrame& f
             const Vec3 rect(z * (x - g.cx_left_px) / g.fx_px, z * (y - g.cy_px) / g.fy_px, z);
             const Vec3 site = g.R_site_from_rect * rect + g.left_centre_site_m;
             // The input pixel of this rectified pixel: project the point into camera 1.
-            const Vec3 cam = p.R_site_from_cam1.transpose() * (site - p.position1_site_m);
+            const Vec3 cam = p.site_from_cam1.R.transpose() * (site - p.site_from_cam1.t_m);
             Vec2 px;
             if (!projectPoint(p.camera, cam, px).isOk()) {
                 continue;
@@ -274,16 +274,16 @@ TEST_F(WideBaselineMapperTest, MapsTheRoverPairWithinTheRangeAndHeightTargets) {
     Vec3 t_true;
     trueRelativePose(*f1, *f2, R_true, t_true);
     constexpr double kDeg = 180.0 / 3.14159265358979323846;
-    const double rot_before = kDeg * motion::rotationAngleRad(p->odometry_R_2_from_1, R_true);
-    const double dir_before = kDeg * motion::directionAngleRad(p->odometry_t_2_from_1_m, t_true);
-    const double rot_after = kDeg * motion::rotationAngleRad(p->motion.R_b_from_a, R_true);
-    const double dir_after = kDeg * motion::directionAngleRad(p->motion.t_b_from_a_m, t_true);
+    const double rot_before = kDeg * motion::rotationAngleRad(p->odometry_2_from_1.R, R_true);
+    const double dir_before = kDeg * motion::directionAngleRad(p->odometry_2_from_1.t_m, t_true);
+    const double rot_after = kDeg * motion::rotationAngleRad(p->refine.motion.R_b_from_a, R_true);
+    const double dir_after = kDeg * motion::directionAngleRad(p->refine.motion.t_b_from_a_m, t_true);
     const RangeError r = rangeError(*p, *f1);
     const MapError m = mapError(*p->height_map);
     std::printf("[ rover %dx%d ] matches %d, inliers %d, rotation error %.3f -> %.3f deg, "
                 "direction error %.3f -> %.3f deg; disparities %d..%d (%d features in), valid %d px, dropped by the ground bound %d; points %d; "
                 "range error median %.2f %%, within 5 %% %.1f %% (%zu px); cells %d (good %d), median |dz| %.3f m\n",
-                kSize, kSize, p->matching.matched, p->motion.inliers, rot_before, rot_after,
+                kSize, kSize, p->refine.matching.matched, p->refine.motion.inliers, rot_before, rot_after,
                 dir_before, dir_after, p->disparity_min, p->disparity_max, p->features_in_window, p->stereo.valid_pixels, p->outside_window,
                 p->triangulation.points, 100.0 * r.median, 100.0 * r.within5, r.count, m.cells, m.good, m.median_abs_m);
     for (std::size_t i = 0; i < mapper_->stages().size(); ++i) {

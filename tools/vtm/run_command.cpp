@@ -400,10 +400,10 @@ std::string flyDescent(const World& world, hal::Camera& camera, hal::Odometry& o
         }
         row.ok = true;
         row.camera_height_m = -p->geometry.site_from_cam1.t_m.z();
-        row.matches = p->matching.matched;
-        row.inliers = p->motion.inliers;
-        row.rot_deg = p->refine_rotation_deg;
-        row.dir_deg = p->refine_direction_deg;
+        row.matches = p->refine.matching.matched;
+        row.inliers = p->refine.motion.inliers;
+        row.rot_deg = p->refine.rotation_change_deg;
+        row.dir_deg = p->refine.direction_change_deg;
         row.cells = static_cast<long long>(p->cells_filled);
         std::vector<Vec3> points;
         row.accuracy = measure(world, *p, points);

@@ -79,7 +79,7 @@ FloatImage rangeImage(const app::WideBaselineProducts& p) {
     for (const terrain::TerrainPoint& tp : p.points) {
         const Vec3 site(tp.x_m, tp.y_m, tp.z_m);
         Vec2 px;
-        if (!projectPoint(cam, p.R_site_from_cam1.transpose() * (site - p.position1_site_m), px).isOk()) continue;
+        if (!projectPoint(cam, p.site_from_cam1.R.transpose() * (site - p.site_from_cam1.t_m), px).isOk()) continue;
         const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
         const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
         if (ix < 0 || iy < 0 || ix >= cam.width_px || iy >= cam.height_px) continue;
@@ -106,11 +106,11 @@ Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, 
     const Mat3 R_true = f2->camera_pose.R.transpose() * f1->camera_pose.R;
     const Vec3 t_true = f2->camera_pose.R.transpose() *
                         (f1->camera_pose.t_m - f2->camera_pose.t_m);
-    m.rot_before_deg = kDegPerRad * motion::rotationAngleRad(p.odometry_R_2_from_1, R_true);
-    m.rot_after_deg = kDegPerRad * motion::rotationAngleRad(p.motion.R_b_from_a, R_true);
-    m.dir_before_deg = kDegPerRad * motion::directionAngleRad(p.odometry_t_2_from_1_m, t_true);
-    m.dir_after_deg = kDegPerRad * motion::directionAngleRad(p.motion.t_b_from_a_m, t_true);
-    m.baseline_scale_error = p.odometry_t_2_from_1_m.norm() / t_true.norm() - 1.0;
+    m.rot_before_deg = kDegPerRad * motion::rotationAngleRad(p.odometry_2_from_1.R, R_true);
+    m.rot_after_deg = kDegPerRad * motion::rotationAngleRad(p.refine.motion.R_b_from_a, R_true);
+    m.dir_before_deg = kDegPerRad * motion::directionAngleRad(p.odometry_2_from_1.t_m, t_true);
+    m.dir_after_deg = kDegPerRad * motion::directionAngleRad(p.refine.motion.t_b_from_a_m, t_true);
+    m.baseline_scale_error = p.odometry_2_from_1.t_m.norm() / t_true.norm() - 1.0;
     // The renderer's true range of image 1.
     const std::int32_t W = range.width, H = range.height;
     std::vector<std::uint8_t> img(static_cast<std::size_t>(W) * static_cast<std::size_t>(H));
@@ -260,8 +260,8 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| range error: median / within 5 %% | %.2f %% / %.1f %% |\n"
                   "| height map: cells / median abs error / mean error | %lld / %.3f m / %+.3f m |\n"
                   "| time of the request | %.2f s |\n\n",
-                  p->matching.matched, p->motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
-                  m.dir_after_deg, p->motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
+                  p->refine.matching.matched, p->refine.motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
+                  m.dir_after_deg, p->refine.motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
                   p->features_in_window, p->stereo.valid_pixels + p->speckles, p->speckles, p->outside_window, p->triangulation.points,
                   m.range_pixels, 100.0 * static_cast<double>(m.range_pixels) / (range.width * range.height),
                   m.range_true_median_m, 100.0 * m.range_median, 100.0 * m.range_within5, m.cells, m.dz_median_m,

@@ -218,7 +218,7 @@ Status DescentMapper::depthRangeFromFeatures() noexcept {
     double lo = 0.0;
     double hi = 0.0;
     std::int32_t n = 0;
-    const refine::Result& r = refined_;
+    const refine::Result& r = products_.refine;
     for (std::size_t i = 0U; i < r.pixels_a.size(); ++i) {
         if (r.inliers[i] == 0U || !math::isFinite(r.ranges_m[i])) {
             continue;
@@ -261,19 +261,13 @@ Status DescentMapper::refinePose() noexcept {
     rq.scene = refine::Scene::kGround;
     rq.up_a = p1.R.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
     rq.camera_height_m = -p1.t_m.z();                   // site z is down
-    Status st = refiner_.refine(rq, refined_);
-    products_.matching = refined_.matching;
+    refine::Result& r = products_.refine;
+    Status st = refiner_.refine(rq, r);
     if (st.isOk()) {
-        const motion::MotionResult& m = refined_.motion;
-        products_.motion = m;
-        products_.refine_rotation_deg = refined_.rotation_change_deg;
-        products_.refine_direction_deg = refined_.direction_change_deg;
-        // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
-        p2.R = p1.R * m.R_b_from_a.transpose();
-        p2.t_m = p1.t_m - p2.R * m.t_b_from_a_m;
+        p2 = poseOfB(p1, r.refined.b_from_a);  // camera 2 refined
         st = depthRangeFromFeatures();
     }
-    return finish(Stage::kRefine, st, st.isOk() ? products_.motion.inliers : products_.matching.matched, t0);
+    return finish(Stage::kRefine, st, st.isOk() ? r.motion.inliers : r.matching.matched, t0);
 }
 
 Status DescentMapper::runSweep() noexcept {
@@ -320,10 +314,7 @@ Status DescentMapper::map() noexcept {
     if (!initialized_) {
         return Status(StatusCode::kNotInitialized, "DescentMapper::map: init() has not succeeded");
     }
-    products_.matching = features::MatchStats{};
-    products_.motion = motion::MotionResult{};
-    products_.refine_rotation_deg = 0.0;
-    products_.refine_direction_deg = 0.0;
+    products_.refine = refine::Result{};
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture1, image1_, products_.frame1));
     VTM_RETURN_IF_ERROR(poseOf(Stage::kPose1, products_.frame1, pose1_));
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture2, image2_, products_.frame2));

@@ -210,22 +210,14 @@ Status WideBaselineMapper::poseOf(Stage stage, const hal::FrameInfo& info, hal::
 Status WideBaselineMapper::planGeometry() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     WideBaselineProducts& p = products_;
-    RigidPose site_from_cam1;
-    RigidPose site_from_cam2;
-    Status st = cameraPoseInSite(pose1_, config_.mount, site_from_cam1);
+    Status st = cameraPoseInSite(pose1_, config_.mount, p.site_from_cam1);
     if (st.isOk()) {
-        p.R_site_from_cam1 = site_from_cam1.R;
-        p.position1_site_m = site_from_cam1.t_m;
-        st = cameraPoseInSite(pose2_, config_.mount, site_from_cam2);
+        st = cameraPoseInSite(pose2_, config_.mount, p.site_from_cam2);
     }
     double baseline = 0.0;
     if (st.isOk()) {
-        p.R_site_from_cam2 = site_from_cam2.R;
-        p.position2_site_m = site_from_cam2.t_m;
-        // Camera frames: X2 = R X1 + t.
-        p.odometry_R_2_from_1 = p.R_site_from_cam2.transpose() * p.R_site_from_cam1;
-        p.odometry_t_2_from_1_m = p.R_site_from_cam2.transpose() * (p.position1_site_m - p.position2_site_m);
-        baseline = math::sqrt(p.odometry_t_2_from_1_m.squaredNorm());
+        p.odometry_2_from_1 = relativePose(p.site_from_cam1, p.site_from_cam2);  // X2 = R X1 + t
+        baseline = math::sqrt(p.odometry_2_from_1.t_m.squaredNorm());
         if (!(baseline >= config_.min_baseline_m)) {
             st = Status(StatusCode::kDegenerate, "geometry: the rover moved less than min_baseline_m between the frames",
                         static_cast<std::int64_t>(std::floor(1000.0 * baseline + 0.5)));
@@ -242,38 +234,30 @@ Status WideBaselineMapper::refinePose() noexcept {
     refine::Request rq;
     rq.prior.model_a = model_;
     rq.prior.model_b = model_;
-    rq.prior.b_from_a.R = p.odometry_R_2_from_1;
-    rq.prior.b_from_a.t_m = p.odometry_t_2_from_1_m;
+    rq.prior.b_from_a = p.odometry_2_from_1;
     rq.rotation_sigma_rad = config_.attitude_sigma_rad;
     rq.image_a = grey1_;
     rq.image_b = grey2_;
     rq.range_min_m = config_.range_min_m;
     rq.range_max_m = config_.range_max_m;
     rq.scene = refine::Scene::kGround;
-    rq.up_a = p.R_site_from_cam1.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
+    rq.up_a = p.site_from_cam1.R.transpose() * Vec3(0.0, 0.0, -1.0);  // level ground, up
     // The mast camera's height above the ground the rover stands on (site z is down; the
     // vehicle frame's origin is on the ground).
-    const double height = pose1_.position_m[2] - p.position1_site_m.z();
+    const double height = pose1_.position_m[2] - p.site_from_cam1.t_m.z();
     rq.camera_height_m = height > 0.05 ? height : 0.05;
-    Status st = refiner_.refine(rq, refined_);
-    p.matching = refined_.matching;
+    Status st = refiner_.refine(rq, p.refine);
     if (st.isOk()) {
-        const motion::MotionResult& m = refined_.motion;
-        p.motion = m;
-        p.refine_rotation_deg = refined_.rotation_change_deg;
-        p.refine_direction_deg = refined_.direction_change_deg;
-        // Camera 2 from the refined relative pose: R2 = R1 R^T, c2 = c1 - R2 t.
-        p.R_site_from_cam2 = p.R_site_from_cam1 * m.R_b_from_a.transpose();
-        p.position2_site_m = p.position1_site_m - p.R_site_from_cam2 * m.t_b_from_a_m;
+        p.site_from_cam2 = poseOfB(p.site_from_cam1, p.refine.refined.b_from_a);  // camera 2 refined
     }
-    return finish(Stage::kRefine, st, st.isOk() ? p.motion.inliers : p.matching.matched, t0);
+    return finish(Stage::kRefine, st, st.isOk() ? p.refine.motion.inliers : p.refine.matching.matched, t0);
 }
 
 Status WideBaselineMapper::runRectify() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     WideBaselineProducts& p = products_;
     rectify::RectifyInput in;
-    in.pair = refined_.refined;  // the camera's model twice and the refined b_from_a
+    in.pair = p.refine.refined;  // the camera's model twice and the refined b_from_a
     Status st = rectifier_.compute(in, p.rectified);
     if (st.isOk()) {
         st = rectifier_.remap(rectify::Rectifier::Side::kA, grey1_, rect1_);
@@ -283,10 +267,7 @@ Status WideBaselineMapper::runRectify() noexcept {
     }
     if (st.isOk()) {
         // The rectified left camera in the site frame, for the triangulation.
-        RigidPose site_from_cam1;
-        site_from_cam1.R = p.R_site_from_cam1;
-        site_from_cam1.t_m = p.position1_site_m;
-        st = terrain::rectifiedGeometry(p.rectified, site_from_cam1, p.triangulation_geometry);
+        st = terrain::rectifiedGeometry(p.rectified, p.site_from_cam1, p.triangulation_geometry);
     }
     return finish(Stage::kRectify, st,
                   st.isOk() ? static_cast<std::int64_t>(std::floor(100.0 * p.rectified.convergence_deg + 0.5)) : 0, t0);
@@ -297,7 +278,7 @@ Status WideBaselineMapper::runRectify() noexcept {
 Status WideBaselineMapper::placeDisparityWindow() noexcept {
     WideBaselineProducts& p = products_;
     std::size_t n = 0U;
-    const refine::Result& r = refined_;
+    const refine::Result& r = products_.refine;
     for (std::size_t i = 0U; i < r.pixels_a.size(); ++i) {
         Vec2 ra;
         Vec2 rb;
@@ -381,10 +362,7 @@ Status WideBaselineMapper::map() noexcept {
     if (!initialized_) {
         return Status(StatusCode::kNotInitialized, "WideBaselineMapper::map: init() has not succeeded");
     }
-    products_.matching = features::MatchStats{};
-    products_.motion = motion::MotionResult{};
-    products_.refine_rotation_deg = 0.0;
-    products_.refine_direction_deg = 0.0;
+    products_.refine = refine::Result{};
     products_.stereo = stereo::StereoStats{};
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture1, grey1_, products_.frame1));
     VTM_RETURN_IF_ERROR(poseOf(Stage::kPose1, products_.frame1, pose1_));

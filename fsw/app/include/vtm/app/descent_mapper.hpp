@@ -111,12 +111,10 @@ struct DescentProducts {
     hal::FrameInfo frame1{};
     hal::FrameInfo frame2{};
     descent::SweepStats sweep{};
-    // refine: what the images said about the odometry's relative pose (zero when
-    // refine_pose is off): matches, inliers, RMS, and the correction applied to camera 2.
-    features::MatchStats matching{};
-    motion::MotionResult motion{};
-    double refine_rotation_deg = 0.0;    // angle between the odometry's and the refined rotation
-    double refine_direction_deg = 0.0;   // angle between the translation directions
+    // refine: what the images said about the odometry's relative pose (empty when
+    // refine_pose is off): refine::PairRefiner's result (counts per step, matches, inliers,
+    // ranges, the motion, the change from the odometry in degrees).
+    refine::Result refine{};
     double depth_min_m = 0.0;            // the depth range swept (geometry, or refine's)
     double depth_max_m = 0.0;
     std::int64_t cells_filled = 0;
@@ -169,7 +167,6 @@ private:
     CameraModel model_{};
     descent::PlaneSweep sweep_{};
     refine::PairRefiner refiner_{};
-    refine::Result refined_{};         // the refine stage's matches, inliers, ranges, motion
     ImageView<std::uint8_t> grey1_{};  // 8-bit copies for the feature modules
     ImageView<std::uint8_t> grey2_{};
     ImageView<std::uint16_t> image1_{};

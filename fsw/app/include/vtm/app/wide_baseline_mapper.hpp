@@ -130,20 +130,17 @@ struct WideBaselineProducts {
     Span<const terrain::TerrainPoint> points;      // site frame, row-major over rectified 1
     const terrain::HeightMap* height_map = nullptr;
     CameraModel camera{};                   // the camera's model (both frames)
-    Mat3 R_site_from_cam1 = Mat3::Identity();
-    Vec3 position1_site_m = Vec3::Zero();
-    Mat3 R_site_from_cam2 = Mat3::Identity();  // refined
-    Vec3 position2_site_m = Vec3::Zero();
-    Mat3 odometry_R_2_from_1 = Mat3::Identity();  // the odometry's relative pose (X2 = R X1 + t)
-    Vec3 odometry_t_2_from_1_m = Vec3::Zero();
+    RigidPose site_from_cam1{};
+    RigidPose site_from_cam2{};     // refined
+    RigidPose odometry_2_from_1{};  // the odometry's relative pose (X2 = R X1 + t_m)
     rectify::RectifiedPair rectified{};
     terrain::RectifiedGeometry triangulation_geometry{};
     hal::FrameInfo frame1{};
     hal::FrameInfo frame2{};
-    features::MatchStats matching{};
-    motion::MotionResult motion{};
-    double refine_rotation_deg = 0.0;   // angle between the odometry's and the refined rotation
-    double refine_direction_deg = 0.0;  // angle between the translation directions
+    // The refine stage's result (refine::PairRefiner): the refined pair, counts per step,
+    // matches, inliers and their ranges, the motion and its covariance, the change from the
+    // odometry in degrees (rotation_change_deg, direction_change_deg).
+    refine::Result refine{};
     std::int32_t disparity_min = 0;     // the disparity window searched, px (inclusive)
     std::int32_t disparity_max = 0;
     std::int32_t features_in_window = 0;  // refined inliers whose disparity fell inside it
@@ -199,7 +196,6 @@ private:
     hal::EventLog* events_ = nullptr;
     CameraModel model_{};
     refine::PairRefiner refiner_{};
-    refine::Result refined_{};  // the refine stage's matches, inliers, motion
     rectify::Rectifier rectifier_{};
     stereo::MlStereo stereo_{};
     stereo::SpeckleFilter speckle_{};
