@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "no_heap_guard.hpp"
+#include "smooth_texture.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/stereo/disparity_window.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
@@ -29,22 +30,7 @@ struct Pair {
 Pair randomPair(std::uint64_t seed, std::int32_t disparity) {
     Random rng(seed);
     const std::int32_t tw = kW + 300;  // texture columns u: left x sees u = x + 150
-    std::vector<double> noise(static_cast<std::size_t>(tw * kH));
-    for (double& v : noise) {
-        v = rng.uniform01();
-    }
-    std::vector<double> tex(noise.size());
-    for (std::int32_t y = 0; y < kH; ++y) {
-        for (std::int32_t u = 0; u < tw; ++u) {
-            double s = 0.0;
-            for (std::int32_t k = -1; k <= 1; ++k) {
-                const std::int32_t uu = u + k < 0 ? 0 : (u + k >= tw ? tw - 1 : u + k);
-                const std::int32_t yy = y + k < 0 ? 0 : (y + k >= kH ? kH - 1 : y + k);
-                s += noise[static_cast<std::size_t>(y * tw + uu)] + noise[static_cast<std::size_t>(yy * tw + u)];
-            }
-            tex[static_cast<std::size_t>(y * tw + u)] = 20.0 + 215.0 * s / 6.0;
-        }
-    }
+    const std::vector<double> tex = smoothTexture(rng, tw, kH, 20.0, 215.0);
     Pair p;
     for (std::int32_t y = 0; y < kH; ++y) {
         for (std::int32_t x = 0; x < kW; ++x) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "no_heap_guard.hpp"
+#include "smooth_texture.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
@@ -21,24 +22,9 @@ constexpr std::int32_t kH = 96;
 // interpolation, so that a right image shifted by a fractional disparity is exact.
 class Texture {
 public:
-    explicit Texture(std::uint64_t seed) : values_(static_cast<std::size_t>((kW + 80) * kH)) {
+    explicit Texture(std::uint64_t seed) {
         Random rng(seed);
-        std::vector<double> noise(values_.size());
-        for (double& v : noise) {
-            v = rng.uniform01();
-        }
-        const std::int32_t w = kW + 80;
-        for (std::int32_t y = 0; y < kH; ++y) {
-            for (std::int32_t x = 0; x < w; ++x) {
-                double s = 0.0;
-                for (std::int32_t k = -1; k <= 1; ++k) {
-                    const std::int32_t xx = x + k < 0 ? 0 : (x + k >= w ? w - 1 : x + k);
-                    const std::int32_t yy = y + k < 0 ? 0 : (y + k >= kH ? kH - 1 : y + k);
-                    s += noise[static_cast<std::size_t>(y * w + xx)] + noise[static_cast<std::size_t>(yy * w + x)];
-                }
-                values_[static_cast<std::size_t>(y * w + x)] = 40.0 + 170.0 * s / 6.0;
-            }
-        }
+        values_ = smoothTexture(rng, kW + 80, kH, 40.0, 170.0);
     }
     // Intensity at texture coordinate (u, y), u in [0, kW + 79].
     double at(double u, std::int32_t y) const {
