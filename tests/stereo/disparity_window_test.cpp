@@ -10,6 +10,7 @@
 
 #include "no_heap_guard.hpp"
 #include "smooth_texture.hpp"
+#include "vtm/core/assert.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/stereo/disparity_window.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
@@ -29,13 +30,17 @@ struct Pair {
 
 Pair randomPair(std::uint64_t seed, std::int32_t disparity) {
     Random rng(seed);
-    const std::int32_t tw = kW + 300;  // texture columns u: left x sees u = x + 150
+    // Texture columns u: left x sees u = x + kMargin, right x sees u = x + kMargin + disparity,
+    // inside the texture for |disparity| <= kMargin.
+    constexpr std::int32_t kMargin = 250;
+    VTM_ASSERT(disparity >= -kMargin && disparity <= kMargin, disparity, kMargin);
+    const std::int32_t tw = kW + 2 * kMargin;
     const std::vector<double> tex = smoothTexture(rng, tw, kH, 20.0, 215.0);
     Pair p;
     for (std::int32_t y = 0; y < kH; ++y) {
         for (std::int32_t x = 0; x < kW; ++x) {
-            const double l = tex[static_cast<std::size_t>(y * tw + x + 150)];
-            const double r = tex[static_cast<std::size_t>(y * tw + x + 150 + disparity)] + 6.0 * (rng.uniform01() - 0.5);
+            const double l = tex[static_cast<std::size_t>(y * tw + x + kMargin)];
+            const double r = tex[static_cast<std::size_t>(y * tw + x + kMargin + disparity)] + 6.0 * (rng.uniform01() - 0.5);
             p.left[static_cast<std::size_t>(y * kW + x)] = static_cast<std::uint8_t>(l + 0.5);
             p.right[static_cast<std::size_t>(y * kW + x)] = static_cast<std::uint8_t>(r < 0.0 ? 0.0 : (r > 255.0 ? 255.0 : r + 0.5));
         }
