@@ -408,7 +408,7 @@ void hashMotion(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, const 
     in.pixels_b = Span<const Vec2>(pb, n);
     static motion::MotionRefiner refiner;
     motion::MotionResult result;
-    h.addI64(static_cast<std::int64_t>(refiner.refine(in, motion::MotionConfig{}, result).code()));
+    h.addI64(static_cast<std::int64_t>(refiner.refine(in, motion::Config{}, result).code()));
     for (std::int32_t i = 0; i < 9; ++i) {
         h.addDouble(result.R_b_from_a(i / 3, i % 3));
     }
@@ -423,7 +423,7 @@ void hashMotion(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, const 
 }
 
 void hashRectification(const WidePair& pair, const Mat3& R_ba, const Vec3& t_ba, Hasher& h) noexcept {
-    rectify::RectifyConfig c;
+    rectify::Config c;
     c.max_width = WidePair::kW;
     c.max_height = WidePair::kH;
     static std::byte pool[1U << 20U];

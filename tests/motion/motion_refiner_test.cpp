@@ -217,7 +217,7 @@ struct RefineRun {
     double rot_init_deg = 0.0, dir_init_deg = 0.0;   // initial vs truth
 };
 
-RefineRun runRefine(const Scene& s, const MotionConfig& config = MotionConfig{}) {
+RefineRun runRefine(const Scene& s, const Config& config = Config{}) {
     RefineRun run;
     run.flags.assign(s.pixels_a.size(), 7U);
     run.ranges.assign(s.pixels_a.size(), -1.0);
@@ -338,7 +338,7 @@ TEST(MotionRefiner, CauchyKernelWithOutliers) {
     spec.seed = 41U;
     spec.outlier_fraction = 0.2;
     const Scene s = makeScene(cahvor(), spec);
-    MotionConfig config;
+    Config config;
     config.kernel = RobustKernel::kCauchy;
     const RefineRun run = runRefine(s, config);
     expectAccurate(s, run, "cauchy, 20 % outliers");
@@ -494,7 +494,7 @@ TEST(MotionRefiner, BadInputsAreRefusedWithTheirReason) {
     SceneSpec spec;
     spec.matches = 30;
     const Scene s = makeScene(pinhole(), spec);
-    const MotionConfig config;
+    const Config config;
     struct Case {
         const char* name;
         MotionInput input;
@@ -535,7 +535,7 @@ TEST(MotionRefiner, NonFinitePixelTooManyMatchesAndBadModelAreNamed) {
     Scene s = makeScene(pinhole(), spec);
     s.pixels_b[17].y() = std::nan("");
     MotionResult result;
-    Status st = refiner().refine(inputOf(s), MotionConfig{}, result);
+    Status st = refiner().refine(inputOf(s), Config{}, result);
     EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
     EXPECT_STREQ(st.reason(), "pixels_a / pixels_b: non-finite pixel");
     EXPECT_EQ(st.detail(), 17);
@@ -544,7 +544,7 @@ TEST(MotionRefiner, NonFinitePixelTooManyMatchesAndBadModelAreNamed) {
     MotionInput in = inputOf(s);
     in.pixels_a = Span<const Vec2>(many.data(), many.size());
     in.pixels_b = Span<const Vec2>(many.data(), many.size());
-    st = refiner().refine(in, MotionConfig{}, result);
+    st = refiner().refine(in, Config{}, result);
     EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
     EXPECT_STREQ(st.reason(), "pixels_a: more than kMaxMotionMatches (1024) matches");
     EXPECT_EQ(st.detail(), kMaxMotionMatches + 1);
@@ -554,14 +554,14 @@ TEST(MotionRefiner, NonFinitePixelTooManyMatchesAndBadModelAreNamed) {
     for (int side = 0; side < 2; ++side) {
         in = inputOf(s);
         (side == 0 ? in.pair.model_a : in.pair.model_b) = broken;
-        st = refiner().refine(in, MotionConfig{}, result);
+        st = refiner().refine(in, Config{}, result);
         EXPECT_EQ(st.code(), StatusCode::kInvalidArgument) << side;
         EXPECT_NE(std::string(st.reason()).find("fx"), std::string::npos) << st.reason();
     }
 
     std::vector<std::uint8_t> flags(5U);
     s.pixels_b[17].y() = 100.0;
-    st = refiner().refine(inputOf(s), MotionConfig{}, result, Span<std::uint8_t>(flags.data(), flags.size()));
+    st = refiner().refine(inputOf(s), Config{}, result, Span<std::uint8_t>(flags.data(), flags.size()));
     EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
     EXPECT_STREQ(st.reason(), "inlier_flags / ranges_m: must be empty or one per match");
 }
@@ -572,45 +572,45 @@ TEST(MotionRefiner, MatchesThatAreAllOutliersAreDegenerate) {
     spec.outlier_fraction = 1.0;
     const Scene s = makeScene(pinhole(), spec);
     MotionResult result;
-    const Status st = refiner().refine(inputOf(s), MotionConfig{}, result);
+    const Status st = refiner().refine(inputOf(s), Config{}, result);
     EXPECT_EQ(st.code(), StatusCode::kDegenerate);
     EXPECT_STREQ(st.reason(), "matches: fewer inliers than min_inliers");
 }
 
-TEST(MotionConfig, ValidateNamesTheBadField) {
+TEST(Config, ValidateNamesTheBadField) {
     struct Case {
-        MotionConfig config;
+        Config config;
         const char* reason;
     };
     std::vector<Case> cases;
-    MotionConfig c;
+    Config c;
     c.max_iterations = 0;
     cases.push_back({c, "max_iterations: must be 1..200"});
-    c = MotionConfig{};
+    c = Config{};
     c.kernel = static_cast<RobustKernel>(7);
     cases.push_back({c, "kernel: must be none, huber or cauchy"});
-    c = MotionConfig{};
+    c = Config{};
     c.robust_scale_px = std::nan("");
     cases.push_back({c, "robust_scale_px: must be in (0, 1000] px"});
-    c = MotionConfig{};
+    c = Config{};
     c.outlier_threshold_px = 0.0;
     cases.push_back({c, "outlier_threshold_px: must be in (0, 1000] px"});
-    c = MotionConfig{};
+    c = Config{};
     c.max_passes = 11;
     cases.push_back({c, "max_passes: must be 1..10"});
-    c = MotionConfig{};
+    c = Config{};
     c.min_inliers = 5;
     cases.push_back({c, "min_inliers: must be 6..1024 (5 motion parameters plus redundancy)"});
-    c = MotionConfig{};
+    c = Config{};
     c.range_min_m = 0.0;
     cases.push_back({c, "range_min_m: must be finite and > 0 m"});
-    c = MotionConfig{};
+    c = Config{};
     c.range_max_m = 0.2;
     cases.push_back({c, "range_max_m: must be > range_min_m and <= 1e7 m"});
-    c = MotionConfig{};
+    c = Config{};
     c.rotation_prior_sigma_rad = 4.0;
     cases.push_back({c, "rotation_prior_sigma_rad: must be 0 (none) or in (0, pi] rad"});
-    EXPECT_TRUE(MotionConfig{}.validate().isOk());
+    EXPECT_TRUE(Config{}.validate().isOk());
     for (const Case& k : cases) {
         const Status st = k.config.validate();
         EXPECT_EQ(st.code(), StatusCode::kInvalidConfig) << k.reason;
@@ -635,7 +635,7 @@ TEST(MotionRefiner, RefineTouchesNoHeap) {
     MotionResult result;
     const MotionInput in = inputOf(s);
     vtm::test::NoHeapScope scope;
-    const Status st = refiner().refine(in, MotionConfig{}, result, Span<std::uint8_t>(flags.data(), flags.size()),
+    const Status st = refiner().refine(in, Config{}, result, Span<std::uint8_t>(flags.data(), flags.size()),
                                        Span<double>(ranges.data(), ranges.size()));
     EXPECT_EQ(scope.heapCalls(), 0U);
     EXPECT_TRUE(st.isOk()) << st.reason();
@@ -718,9 +718,9 @@ TEST(MotionRefiner, RotationPriorHoldsTheRotationWhereTheImagesCannotTellItFromT
         s.pixels_b.push_back(pb + Vec2(nx, ny));
     }
     ASSERT_EQ(s.pixels_a.size(), 200U);
-    MotionConfig free_config;
+    Config free_config;
     free_config.range_max_m = 300.0;
-    MotionConfig prior_config = free_config;
+    Config prior_config = free_config;
     prior_config.rotation_prior_sigma_rad = 0.003;
     const RefineRun free_run = runRefine(s, free_config);
     const RefineRun prior_run = runRefine(s, prior_config);

@@ -600,7 +600,7 @@ RefineResult refinePose(const RenderedPair& pair, const RelativePose& odometry, 
     in.pair.b_from_a.t_m = odometry.t_b_from_a_m;
     in.pixels_a = Span<const Vec2>(pixels_a.data(), pixels_a.size());
     in.pixels_b = Span<const Vec2>(pixels_b.data(), pixels_b.size());
-    const motion::MotionConfig cfg;
+    const motion::Config cfg;
     auto refiner = std::make_unique<motion::MotionRefiner>();
     motion::MotionResult res;
     const Status st = refiner->refine(in, cfg, res);
@@ -672,7 +672,7 @@ PeerPoseResult opencvRelativePose(const CameraModel& pinhole, const std::vector<
 
 VerticalDisparity vtmVerticalDisparity(const RenderedPair& pair, const RelativePose& pose,
                                        const std::vector<Correspondence>& corr) {
-    rectify::RectifyConfig cfg;
+    rectify::Config cfg;
     cfg.max_width = pair.width;
     cfg.max_height = pair.height;
     std::vector<std::byte> pool(rectify::Rectifier::workspaceBytes(cfg) + 64U);
@@ -850,7 +850,7 @@ long chainErrors(const RenderedPair& pair, const RelativePose& refined, const re
 ChainResult runFullChain(const RenderedPair& pair, const RelativePose& refined, double range_min_m,
                          double range_max_m) {
     ChainResult r;
-    rectify::RectifyConfig cfg;
+    rectify::Config cfg;
     cfg.max_width = pair.width;
     cfg.max_height = pair.height;
     cfg.range_min_m = range_min_m;

@@ -191,7 +191,7 @@ struct FrontEndSpec {
 [[nodiscard]] FrontEndResult runVtmFrontEnd(const RenderedPair& pair, const RelativePose& odometry,
                                             const FrontEndSpec& spec);
 
-// MotionRefiner (default MotionConfig) from the odometry pose on given matches.
+// MotionRefiner (default motion::Config) from the odometry pose on given matches.
 struct RefineResult {
     bool ok = false;
     std::string error;
@@ -217,7 +217,7 @@ void noisyTrueMatches(const std::vector<Correspondence>& corr, std::size_t count
 // between range_min_m and range_max_m under the TRUE pose (rounded, and one row above and
 // below), and the one with the highest NCC (nccAt). `visible` counts the pixels with a
 // true match, `correct` those whose best position lies within 2 px of it (the
-// "correct matches" criterion). Fewer than MotionConfig::min_inliers correct means the
+// "correct matches" criterion). Fewer than motion::Config::min_inliers correct means the
 // images, not the search region, limit the front end.
 struct TrueLineCeiling {
     int visible = 0;

@@ -135,7 +135,7 @@ Scene makeScene(Kind kind, double baseline_m, double convergence_deg, double sid
 
 // A rectifier with its own heap-backed pool (test code; flight code uses a StaticArena).
 struct Harness {
-    explicit Harness(const RectifyConfig& config)
+    explicit Harness(const Config& config)
         : pool(Rectifier::workspaceBytes(config)), arena(pool.data(), pool.size()) {
         init_status = rect.init(config, arena);
     }
@@ -145,8 +145,8 @@ struct Harness {
     Status init_status;
 };
 
-RectifyConfig smallConfig(double range_min_m, double range_max_m) {
-    RectifyConfig c;
+Config smallConfig(double range_min_m, double range_max_m) {
+    Config c;
     c.max_width = kW;
     c.max_height = kH;
     c.range_min_m = range_min_m;
@@ -554,7 +554,7 @@ TEST(Rectifier, RemapMatchesTheImageFunctionAtTheExactPosition) {
 }
 
 TEST(Rectifier, FractionBitsFollowTheInputSize) {
-    RectifyConfig c = smallConfig(2.0, 100.0);
+    Config c = smallConfig(2.0, 100.0);
     c.out_width = 64;
     c.out_height = 48;
     Harness h(c);
@@ -574,27 +574,27 @@ TEST(Rectifier, FractionBitsFollowTheInputSize) {
 // ------------------------------------------------------------------- bad inputs --
 
 TEST(Rectifier, ConfigValidationNamesTheField) {
-    const auto reasonOf = [](RectifyConfig c) { return std::string(c.validate().reason()); };
-    RectifyConfig c;
+    const auto reasonOf = [](Config c) { return std::string(c.validate().reason()); };
+    Config c;
     EXPECT_TRUE(c.validate().isOk());
     c.max_width = 0;
     EXPECT_NE(reasonOf(c).find("max_width"), std::string::npos);
-    c = RectifyConfig{};
+    c = Config{};
     c.max_height = 5000;
     EXPECT_NE(reasonOf(c).find("max_height"), std::string::npos);
-    c = RectifyConfig{};
+    c = Config{};
     c.out_width = 2000;
     EXPECT_NE(reasonOf(c).find("out_width"), std::string::npos);
-    c = RectifyConfig{};
+    c = Config{};
     c.out_width = 100;
     EXPECT_EQ(c.validate().code(), StatusCode::kInvalidConfig);  // out_height still 0
-    c = RectifyConfig{};
+    c = Config{};
     c.range_min_m = 0.0;
     EXPECT_NE(reasonOf(c).find("range_min_m"), std::string::npos);
-    c = RectifyConfig{};
+    c = Config{};
     c.range_max_m = 1.0;
     EXPECT_NE(reasonOf(c).find("range_max_m"), std::string::npos);
-    c = RectifyConfig{};
+    c = Config{};
     c.min_baseline_angle_deg = 90.0;
     EXPECT_NE(reasonOf(c).find("min_baseline_angle_deg"), std::string::npos);
     EXPECT_EQ(Rectifier::workspaceBytes(c), 0U);
@@ -605,7 +605,7 @@ TEST(Rectifier, ConfigValidationNamesTheField) {
 }
 
 TEST(Rectifier, ArenaTooSmall) {
-    const RectifyConfig c = smallConfig(2.0, 100.0);
+    const Config c = smallConfig(2.0, 100.0);
     const std::size_t need = Rectifier::workspaceBytes(c);
     EXPECT_GE(need, 2U * 2U * kW * kH * sizeof(std::int16_t));
     std::vector<std::byte> pool(need);
@@ -678,7 +678,7 @@ TEST(Rectifier, BadInputsGiveDocumentedStatus) {
 // Host timing for the report (docs/rectify.md): not a pass/fail test.
 // Run: vtm_rectify_tests --gtest_also_run_disabled_tests --gtest_filter='*Timing*'
 TEST(Rectifier, DISABLED_Timing1024) {
-    RectifyConfig c;
+    Config c;
     Harness h(c);
     ASSERT_TRUE(h.init_status.isOk());
     for (Kind kind : {Kind::kBrown, Kind::kCahvor}) {

@@ -310,7 +310,7 @@ TEST(RectifiedGeometryOf, SitePointsComeBackThroughTheRectifiedPairOfCahvCameras
     const Vec3 c_b_in_a = c_a + R_opt.transpose() * Vec3(1.5, 0.02, 0.01);
     const Vec3 t_b_from_a = c_a - R_b_from_a * c_b_in_a;  // B's centre in B's frame: c_a
     const CameraModel b = cahv(R_opt * R_b_from_a.transpose(), c_a, 300.0, 160.0, 120.0);
-    rectify::RectifyConfig config;
+    rectify::Config config;
     config.max_width = 320;
     config.max_height = 240;
     config.range_min_m = 2.0;

@@ -336,7 +336,7 @@ double keptFraction(const rectify::Rectifier& r, rectify::Rectifier::Side side, 
 }
 
 std::string runRectifier(const PairInputs& in, RectifyRun& run) {
-    rectify::RectifyConfig c;
+    rectify::Config c;
     c.max_width = std::max(in.image1.width, in.image2.width);
     c.max_height = std::max(in.image1.height, in.image2.height);
     c.range_min_m = in.range_min_m;

@@ -45,8 +45,8 @@ refine::Config refineConfigOf(const WideBaselineMapperConfig& c) noexcept {
     r.max_height = c.frame_height;
     return r;
 }
-rectify::RectifyConfig rectifyConfigOf(const WideBaselineMapperConfig& c) noexcept {
-    rectify::RectifyConfig r = c.rectify;
+rectify::Config rectifyConfigOf(const WideBaselineMapperConfig& c) noexcept {
+    rectify::Config r = c.rectify;
     r.max_width = c.frame_width;
     r.max_height = c.frame_height;
     r.range_min_m = c.range_min_m;

@@ -1,4 +1,4 @@
-// MotionConfig::validate: every field range-checked before a refinement starts.
+// Config::validate: every field range-checked before a refinement starts.
 #include "vtm/core/math.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 
@@ -14,7 +14,7 @@ bool inScale(double v) noexcept { return math::isFinite(v) && v > 0.0 && v <= 10
 
 }  // namespace
 
-Status MotionConfig::validate() const noexcept {
+Status Config::validate() const noexcept {
     if (max_iterations < 1 || max_iterations > kMaxMotionIterations) {
         return invalid("max_iterations: must be 1..200", max_iterations);
     }

@@ -221,7 +221,7 @@ double MotionRefiner::bestInverseRange(const Motion& m, std::int32_t i, double r
     return rho;
 }
 
-std::int32_t MotionRefiner::prepare(const MotionInput& input, const MotionConfig& config, const Motion& m) noexcept {
+std::int32_t MotionRefiner::prepare(const MotionInput& input, const Config& config, const Motion& m) noexcept {
     model_b_ = &input.pair.model_b;
     config_ = config;
     count_ = static_cast<std::int32_t>(input.pixels_a.size());
@@ -463,7 +463,7 @@ Status MotionRefiner::finish(const Motion& m, MotionResult& result) noexcept {
     return Status::ok();
 }
 
-Status MotionRefiner::refine(const MotionInput& input, const MotionConfig& config, MotionResult& result,
+Status MotionRefiner::refine(const MotionInput& input, const Config& config, MotionResult& result,
                              Span<std::uint8_t> inlier_flags, Span<double> ranges_m) noexcept {
     VTM_RETURN_IF_ERROR(checkInput(input, inlier_flags.size(), ranges_m.size()));
     VTM_RETURN_IF_ERROR(config.validate());

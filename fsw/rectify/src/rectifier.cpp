@@ -43,35 +43,35 @@ double clampDisparity(double d) noexcept {
 
 }  // namespace
 
-Status RectifyConfig::validate() const noexcept {
+Status Config::validate() const noexcept {
     if (max_width < 1 || max_width > kMaxImageSide) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.max_width: must be 1..4094", max_width);
+        return Status(StatusCode::kInvalidConfig, "Config.max_width: must be 1..4094", max_width);
     }
     if (max_height < 1 || max_height > kMaxImageSide) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.max_height: must be 1..4094", max_height);
+        return Status(StatusCode::kInvalidConfig, "Config.max_height: must be 1..4094", max_height);
     }
     if (out_width < 0 || out_width > max_width) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.out_width: must be 0..max_width", out_width);
+        return Status(StatusCode::kInvalidConfig, "Config.out_width: must be 0..max_width", out_width);
     }
     if (out_height < 0 || out_height > max_height) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.out_height: must be 0..max_height", out_height);
+        return Status(StatusCode::kInvalidConfig, "Config.out_height: must be 0..max_height", out_height);
     }
     if ((out_width == 0) != (out_height == 0)) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.out_width/out_height: both 0 or both set");
+        return Status(StatusCode::kInvalidConfig, "Config.out_width/out_height: both 0 or both set");
     }
     if (!math::isFinite(range_min_m) || !(range_min_m > 0.0)) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.range_min_m: must be finite and > 0");
+        return Status(StatusCode::kInvalidConfig, "Config.range_min_m: must be finite and > 0");
     }
     if (!math::isFinite(range_max_m) || !(range_max_m > range_min_m)) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.range_max_m: must be finite and > range_min_m");
+        return Status(StatusCode::kInvalidConfig, "Config.range_max_m: must be finite and > range_min_m");
     }
     if (!(min_baseline_angle_deg >= 0.0 && min_baseline_angle_deg < 90.0)) {
-        return Status(StatusCode::kInvalidConfig, "RectifyConfig.min_baseline_angle_deg: must be in [0, 90)");
+        return Status(StatusCode::kInvalidConfig, "Config.min_baseline_angle_deg: must be in [0, 90)");
     }
     return Status::ok();
 }
 
-std::size_t Rectifier::workspaceBytes(const RectifyConfig& config) noexcept {
+std::size_t Rectifier::workspaceBytes(const Config& config) noexcept {
     if (!config.validate().isOk()) {
         return 0U;
     }
@@ -81,7 +81,7 @@ std::size_t Rectifier::workspaceBytes(const RectifyConfig& config) noexcept {
     return 2U * Arena::blockBytes(entries * sizeof(std::int16_t));
 }
 
-Status Rectifier::init(const RectifyConfig& config, Arena& arena) noexcept {
+Status Rectifier::init(const Config& config, Arena& arena) noexcept {
     initialized_ = false;
     ready_ = false;
     VTM_RETURN_IF_ERROR(config.validate());

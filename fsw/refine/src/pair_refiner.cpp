@@ -204,7 +204,7 @@ Status PairRefiner::refineMotion(const Request& request, Result& result) noexcep
     input.pair = request.prior;
     input.pixels_a = result.pixels_a;
     input.pixels_b = result.pixels_b;
-    motion::MotionConfig mc = config_.motion;
+    motion::Config mc = config_.motion;
     mc.range_min_m = request.range_min_m;
     mc.range_max_m = request.range_max_m;
     mc.rotation_prior_sigma_rad = request.rotation_sigma_rad;

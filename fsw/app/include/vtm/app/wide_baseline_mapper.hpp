@@ -81,7 +81,7 @@ struct WideBaselineMapperConfig {
     // 1-sigma per axis of the odometry's relative rotation between the frames, radians,
     // 0..pi: the refiner's rotation prior. 0 = none (the rover's heading error is large).
     double attitude_sigma_rad = 0.0;
-    rectify::RectifyConfig rectify{};       // its range limits are replaced by range_*_m
+    rectify::Config rectify{};       // its range limits are replaced by range_*_m
     stereo::Config stereo = wideBaselineStereoConfig();  // d_min must be 0 (the window is placed per pair)
     terrain::TriangulationLimits limits{};  // its range limits are replaced by range_*_m
     // The terrain's range along camera 1's rays: the matching's search segment, the

@@ -44,7 +44,7 @@ constexpr std::int32_t kMaxMotionPasses = 10;
 //   kCauchy  cost c^2/2 ln(1 + e^2/c^2),              weight 1 / (1 + e^2/c^2)
 enum class RobustKernel : std::uint8_t { kNone = 0, kHuber = 1, kCauchy = 2 };
 
-struct MotionConfig {
+struct Config {
     std::int32_t max_iterations = 30;     // LM trial steps per pass, 1..kMaxMotionIterations
     RobustKernel kernel = RobustKernel::kHuber;
     double robust_scale_px = 1.0;         // kernel scale c, (0, 1000] px
@@ -125,7 +125,7 @@ public:
     // ranges_m (optional, size == matches): refined range of each match along A's ray,
     // metres (NaN if outlier).
     // On an error, result, inlier_flags and ranges_m are left unspecified.
-    [[nodiscard]] Status refine(const MotionInput& input, const MotionConfig& config, MotionResult& result,
+    [[nodiscard]] Status refine(const MotionInput& input, const Config& config, MotionResult& result,
                                 Span<std::uint8_t> inlier_flags = {}, Span<double> ranges_m = {}) noexcept;
 
 private:
@@ -136,7 +136,7 @@ private:
     };
     struct Normal;  // normal equations (defined in the .cpp)
 
-    [[nodiscard]] std::int32_t prepare(const MotionInput& input, const MotionConfig& config, const Motion& m) noexcept;
+    [[nodiscard]] std::int32_t prepare(const MotionInput& input, const Config& config, const Motion& m) noexcept;
     [[nodiscard]] bool residual(const Motion& m, std::int32_t i, double rho, Vec2& r) const noexcept;
     [[nodiscard]] bool residualAndJacobian(const Motion& m, std::int32_t i, double rho, Vec2& r,
                                            Eigen::Matrix<double, 2, 5>& j_motion, Vec2& j_rho) const noexcept;
@@ -153,7 +153,7 @@ private:
 
     [[nodiscard]] double priorWeight() const noexcept;
     const CameraModel* model_b_ = nullptr;
-    MotionConfig config_{};
+    Config config_{};
     Mat3 R_prior_ = Mat3::Identity();  // the input rotation (rotation_prior_sigma_rad > 0)
     std::int32_t count_ = 0;
     double rho_min_ = 0.0;   // 1 / range_max_m

@@ -32,7 +32,7 @@ constexpr std::int32_t kMaxImageSide = 4094;
 // Table entry of a rectified pixel whose ray leaves the input image (or has no pixel).
 constexpr std::int16_t kOutsideInput = INT16_MIN;
 
-struct RectifyConfig {
+struct Config {
     std::int32_t max_width = 1024, max_height = 1024;  // capacity of the remap tables, 1..kMaxImageSide
     std::int32_t out_width = 0, out_height = 0;        // rectified size; 0: A's size (both 0 or both set)
     double range_min_m = 2.0, range_max_m = 200.0;     // for the disparity-range report; 0 < min < max
@@ -77,10 +77,10 @@ public:
 
     // Bytes of arena for this configuration: 2 tables x max_width x max_height x 2 int16
     // (plus alignment padding). 0 for an invalid config.
-    [[nodiscard]] static std::size_t workspaceBytes(const RectifyConfig& config) noexcept;
+    [[nodiscard]] static std::size_t workspaceBytes(const Config& config) noexcept;
 
     // kInvalidConfig (bad field) or kOutOfMemory (arena too small).
-    [[nodiscard]] Status init(const RectifyConfig& config, Arena& arena) noexcept;
+    [[nodiscard]] Status init(const Config& config, Arena& arena) noexcept;
 
     // Fusiello geometry, disparity range and both remap tables (each entry: back-project
     // the rectified pixel's ray, rotate it into the input camera's frame and project it
@@ -131,7 +131,7 @@ private:
     [[nodiscard]] const SideState& state(Side side) const noexcept;
     void fillPair(const Geometry& g, RectifiedPair& out) const noexcept;
 
-    RectifyConfig config_{};
+    Config config_{};
     SideState sides_[2]{};
     double fx_px_ = 0.0, fy_px_ = 0.0, cy_px_ = 0.0;
     std::int32_t out_width_ = 0, out_height_ = 0;

@@ -47,7 +47,7 @@ struct Config {
     features::MatcherConfig matcher{};
     // The refiner's settings. range_min_m / range_max_m and rotation_prior_sigma_rad are
     // replaced per request (Request::range_*_m, Request::rotation_sigma_rad).
-    motion::MotionConfig motion{};
+    motion::Config motion{};
     // The prior pose's uncertainty seen in image B: the matching window around the
     // segment that the prior pose and the range interval predict, pixels, 0..1000 (e.g. a
     // heading error of 2.3 deg at fx 1236 px with half again as margin: 75 px).
