@@ -154,8 +154,8 @@ PairResult evaluatePair(const test::RenderedFrame& f1, const test::RenderedFrame
     std::vector<float> depth(f1.depth_m.size());
     PairGeometry g;
     g.camera = camera;
-    g.site_from_cam1 = test::toDescentPose(f1.pose);
-    g.site_from_cam2 = test::toDescentPose(f2.pose);
+    g.site_from_cam1 = f1.pose;
+    g.site_from_cam2 = f2.pose;
     SweepStats stats;
     const Status s = sweep.compute(ImageView<const std::uint16_t>(f1.image.data(), kSize, kSize),
                                    ImageView<const std::uint16_t>(f2.image.data(), kSize, kSize), g,

@@ -62,10 +62,6 @@ inline RenderedFrame render(const sim::Terrain& terrain, const CameraModel& mode
     return f;
 }
 
-inline RigidPose toDescentPose(const RigidPose& site_from_cam) {
-    return site_from_cam;
-}
-
 // Nadir camera (optical axis straight down, image +x = east) at `eye_site_m`.
 inline RigidPose nadirPose(const Vec3& eye_site_m) {
     return sim::poseLookingAt(eye_site_m, eye_site_m + Vec3(0.0, 0.0, 100.0));

@@ -57,8 +57,8 @@ const Pair& pair() {
         q.f1 = test::render(t, q.camera, test::nadirPose(kEye1), 0U, sensor);
         q.f2 = test::render(t, q.camera, test::nadirPose(kEye2), 1U, sensor);
         q.geometry.camera = q.camera;
-        q.geometry.site_from_cam1 = test::toDescentPose(q.f1.pose);
-        q.geometry.site_from_cam2 = test::toDescentPose(q.f2.pose);
+        q.geometry.site_from_cam1 = q.f1.pose;
+        q.geometry.site_from_cam2 = q.f2.pose;
         return q;
     }();
     return p;

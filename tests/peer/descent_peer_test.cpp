@@ -53,7 +53,7 @@ TEST(DescentPeer, BruteForceOpenCvSweepPicksTheSamePlanes) {
     Arena arena(pool.data(), pool.size());
     PlaneSweep sweep;
     ASSERT_TRUE(sweep.init(c, arena).isOk());
-    PairGeometry g{cam, test::toDescentPose(f1.pose), test::toDescentPose(f2.pose)};
+    PairGeometry g{cam, f1.pose, f2.pose};
     std::vector<float> depth(kSize * kSize);
     std::vector<std::uint8_t> reason(kSize * kSize);
     ASSERT_TRUE(sweep.compute(ImageView<const std::uint16_t>(f1.image.data(), kSize, kSize),
