@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "vtm/core/image_pyramid.hpp"
 #include "vtm/core/math.hpp"
 
 namespace vtm::features {
@@ -788,16 +789,7 @@ void TemplateMatcher::buildPyramid(const ImageView<const std::uint8_t>& image, S
             break;
         }
         std::uint8_t* dst = storage.data() + offset;
-        for (std::int32_t y = 0; y < h; ++y) {
-            const std::uint8_t* r0 = src.row(2 * y);
-            const std::uint8_t* r1 = src.row(2 * y + 1);
-            for (std::int32_t x = 0; x < w; ++x) {
-                const std::ptrdiff_t i = static_cast<std::ptrdiff_t>(x) * 2;
-                const std::uint32_t s = static_cast<std::uint32_t>(r0[i]) + r0[i + 1] + r1[i] + r1[i + 1];
-                dst[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
-                    static_cast<std::uint8_t>((s + 2U) >> 2U);
-            }
-        }
+        (void)halveImage(src, ImageView<std::uint8_t>(dst, w, h));  // sizes hold by construction
         pyramid.level[l] = ImageView<const std::uint8_t>(dst, w, h);
         pyramid.levels = l;
         offset += static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
