@@ -16,6 +16,7 @@
 #include "vtm/refine/pair_refiner.hpp"
 #include "vtm/stereo/disparity_window.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/stereo/pyramid_stereo.hpp"
 #include "vtm/terrain/ground_bound.hpp"
 #include "vtm/terrain/height_map.hpp"
 #include "vtm/terrain/triangulation.hpp"
@@ -225,6 +226,12 @@ std::uint64_t stereoSection() noexcept {
         h.addDouble(static_cast<double>(sigma[i]));
         h.addI64(reason[i]);
     }
+    const auto hashDisparities = [&h]() {
+        for (std::int32_t i = 0; i < kSw * kSh; ++i) {
+            h.addI64(disparity[i]);
+            h.addI64(reason[i]);
+        }
+    };
     // The same pair with the window moved (setDisparityWindow: the right image moved
     // inside the workspace, black where it has no pixel).
     h.addI64(static_cast<std::int64_t>(matcher.setDisparityWindow(3).code()));
@@ -232,9 +239,47 @@ std::uint64_t stereoSection() noexcept {
                                            .compute(ImageView<const std::uint8_t>(left, kSw, kSh),
                                                     ImageView<const std::uint8_t>(right, kSw, kSh), out)
                                            .code()));
-    for (std::int32_t i = 0; i < kSw * kSh; ++i) {
-        h.addI64(disparity[i]);
-        h.addI64(reason[i]);
+    hashDisparities();
+    // A disparity prior (a plane fitted to three samples, filled per pixel) and the
+    // coarse-to-fine search around it.
+    static Vec3 samples[4] = {Vec3(10.0, 5.0, 4.6), Vec3(80.0, 10.0, 9.3), Vec3(40.0, 60.0, 5.1),
+                              Vec3(20.0, 30.0, 30.0)};
+    static double scratch[4];
+    stereo::DisparityPlane plane;
+    h.addI64(static_cast<std::int64_t>(
+        stereo::fitDisparityPlane(Span<const Vec3>(samples, 4U), Span<double>(scratch, 4U), plane).code()));
+    h.addDouble(plane.a);
+    h.addDouble(plane.b);
+    h.addDouble(plane.c);
+    static std::int16_t prior[kSw * kSh];
+    h.addI64(static_cast<std::int64_t>(
+        stereo::fillDisparityPlane(plane, -20, 20, ImageView<std::int16_t>(prior, kSw, kSh)).code()));
+    h.addI64(static_cast<std::int64_t>(matcher.setDisparityPrior(ImageView<const std::int16_t>(prior, kSw, kSh)).code()));
+    h.addI64(static_cast<std::int64_t>(matcher
+                                           .compute(ImageView<const std::uint8_t>(left, kSw, kSh),
+                                                    ImageView<const std::uint8_t>(right, kSw, kSh), out)
+                                           .code()));
+    hashDisparities();
+    stereo::PyramidConfig pc;
+    pc.max_width = kSw;
+    pc.max_height = kSh;
+    pc.levels = 1;
+    pc.coarse_disparities = 16;
+    pc.coarse_window = 5;
+    pc.fine_radius_px = 3;
+    static std::byte pyramidPool[1U << 20U];
+    Arena pyramidArena(pyramidPool, sizeof pyramidPool);
+    static stereo::PyramidStereo pyramid;
+    h.addI64(static_cast<std::int64_t>(pyramid.init(pc, pyramidArena).code()));
+    for (const bool withSurface : {false, true}) {
+        const ImageView<const std::int16_t> surface =
+            withSurface ? ImageView<const std::int16_t>(prior, kSw, kSh) : ImageView<const std::int16_t>();
+        h.addI64(static_cast<std::int64_t>(pyramid
+                                               .compute(ImageView<const std::uint8_t>(left, kSw, kSh),
+                                                        ImageView<const std::uint8_t>(right, kSw, kSh), surface, -2,
+                                                        13, out)
+                                               .code()));
+        hashDisparities();
     }
     return h.value();
 }

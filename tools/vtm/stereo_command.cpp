@@ -38,6 +38,7 @@ std::string reasonName(std::int32_t value) {
         case stereo::Reason::kOutOfRange: return "out of range";
         case stereo::Reason::kLowLikelihood: return "low likelihood";
         case stereo::Reason::kSpeckle: return "speckle";
+        case stereo::Reason::kNoPrior: return "no prior";
         default: return "reason " + std::to_string(value);
     }
 }

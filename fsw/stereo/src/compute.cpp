@@ -31,20 +31,37 @@ struct Work {
     std::int32_t* second = nullptr;
     std::int16_t* bestIndex = nullptr;
     std::int32_t* rlCost = nullptr;
-    std::int16_t* rlIndex = nullptr;
+    std::int16_t* rlDisparity = nullptr;
+    // The disparity prior (MlStereo::setDisparityPrior), or an empty view: every pixel's
+    // search is centred on 0.
+    ImageView<const std::int16_t> prior{};
     // The window's shift (setDisparityWindow) in 1/16 px: the search runs on the Config's
     // disparities over the moved right image; every disparity found gets this added.
     std::int32_t shift16 = 0;
 };
 
+// The right column on which pixel x's search is centred, clamped to the DT row's padding
+// (a centre outside it searches only padding, and decide() calls the pixel kBorder).
+std::int32_t searchCentre(const Work& k, const std::int16_t* priorRow, std::int32_t x) {
+    if (priorRow == nullptr || priorRow[x] == kNoDisparity) {
+        return x;
+    }
+    const std::int32_t u = x - priorRow[x];
+    const std::int32_t lo = -k.p.disparities;
+    const std::int32_t hi = k.w - 1 + k.p.disparities;
+    return u < lo ? lo : (u > hi ? hi : u);
+}
+
 // Pushes template row y' (or a row of zero cost below the image) into ring slot `slot`,
-// updating the column sums: col += new - old for every column and disparity.
-void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t slot) {
+// updating the column sums: col += new - old for every column and disparity. With a
+// prior, pixel x reads the DT row around its own centre x - prior(x, y').
+void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t y, std::int32_t slot) {
     const Plan& p = k.p;
     const std::size_t slotBytes = static_cast<std::size_t>(p.disparities) * static_cast<std::size_t>(p.costStride);
+    const std::int16_t* priorRow = (k.prior.valid() && leftRow != nullptr) ? k.prior.row(y) : nullptr;
     for (std::int32_t x = 0; x < k.w; ++x) {
         k.offset[x] = (leftRow != nullptr)
-                          ? ((leftRow[x] >> p.binShift) * p.dtStride + p.padLeft + x)
+                          ? ((leftRow[x] >> p.binShift) * p.dtStride + p.padLeft + searchCentre(k, priorRow, x))
                           : 0;
     }
     for (std::int32_t j = 0; j < p.disparities; ++j) {
@@ -98,14 +115,37 @@ void windowSumsAndBest(const Work& k) {
 // Second-best (at least 2 disparities away from the best) per left column, and the best
 // disparity per right column over the same sums (the right-to-left search); each only
 // when its check is enabled.
-void searchRow(const Work& k) {
+// With a prior, the right-to-left search visits every left pixel with a prior and every
+// offset, and keeps per right column the least sum of the left pixels that land there.
+void searchRightToLeftWithPrior(const Work& k, const std::int16_t* priorRow) {
+    const Plan& p = k.p;
+    for (std::int32_t j = 0; j < p.disparities; ++j) {
+        const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
+        for (std::int32_t x = 0; x < k.w; ++x) {
+            if (priorRow[x] == kNoDisparity) {
+                continue;
+            }
+            const std::int32_t d = priorRow[x] + k.c.d_min + j;
+            const std::int32_t xr = x - d;
+            if (xr >= 0 && xr < k.w && win[x] < k.rlCost[xr]) {
+                k.rlCost[xr] = win[x];
+                k.rlDisparity[xr] = static_cast<std::int16_t>(d);
+            }
+        }
+    }
+}
+
+void searchRow(const Work& k, const std::int16_t* priorRow) {
     const Plan& p = k.p;
     for (std::int32_t x = 0; x < k.w; ++x) {
         k.second[x] = kInfCost;
         k.rlCost[x] = kInfCost;
-        k.rlIndex[x] = -1;
+        k.rlDisparity[x] = kNoDisparity;
     }
-    for (std::int32_t j = 0; j < p.disparities && k.c.lr_max_diff_px >= 0; ++j) {
+    if (k.c.lr_max_diff_px >= 0 && priorRow != nullptr) {
+        searchRightToLeftWithPrior(k, priorRow);
+    }
+    for (std::int32_t j = 0; j < p.disparities && k.c.lr_max_diff_px >= 0 && priorRow == nullptr; ++j) {
         const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
         const std::int32_t d = k.c.d_min + j;
         const std::int32_t xrLo = d < 0 ? -d : 0;
@@ -113,7 +153,7 @@ void searchRow(const Work& k) {
         for (std::int32_t xr = xrLo; xr < xrHi; ++xr) {
             if (win[xr + d] < k.rlCost[xr]) {
                 k.rlCost[xr] = win[xr + d];
-                k.rlIndex[xr] = static_cast<std::int16_t>(j);
+                k.rlDisparity[xr] = static_cast<std::int16_t>(d);
             }
         }
     }
@@ -143,20 +183,61 @@ struct Decision {
     float sigma;
 };
 
-Decision decide(const Work& k, std::int32_t x) {
+// The prior's largest magnitude whose disparities, in 1/16 px with the subpixel part, fit
+// int16 and never equal kNoDisparity (as setDisparityWindow's limit).
+constexpr std::int32_t kDisparityLimit = (32767 - 8) / kDisparityScale;  // 2047
+
+// The offsets pixel x searches around its centre (its prior, 0 without one): all, or with
+// clip_search_to_image those whose right column is inside the image. kValid, or why the
+// pixel is not searched (kNoPrior, kBorder, kOutOfRange beyond int16).
+struct OffsetRange {
+    Reason reason;
+    std::int32_t lo;
+    std::int32_t hi;
+};
+OffsetRange offsetRange(const Work& k, std::int32_t x, std::int32_t centre) {
+    if (centre == kNoDisparity) {
+        return {Reason::kNoPrior, 0, 0};
+    }
+    const std::int32_t u = x - centre;  // the right column of offset 0
+    std::int32_t jLo = 0;
+    std::int32_t jHi = k.p.disparities - 1;
+    if (k.c.clip_search_to_image) {
+        jLo = u - (k.w - 1) - k.c.d_min > 0 ? u - (k.w - 1) - k.c.d_min : 0;
+        jHi = u - k.c.d_min < jHi ? u - k.c.d_min : jHi;
+        if (jHi - jLo < 2) {
+            return {Reason::kBorder, 0, 0};
+        }
+    } else if (u - k.c.d_min < 0 || u - k.c.d_max > k.w - 1) {
+        return {Reason::kBorder, 0, 0};
+    }
+    if (centre + k.c.d_min < -kDisparityLimit || centre + k.c.d_max > kDisparityLimit) {
+        return {Reason::kOutOfRange, 0, 0};
+    }
+    return {Reason::kValid, jLo, jHi};
+}
+
+// centre: the pixel's prior (0 without one); the search is centre + d_min .. centre + d_max.
+Decision decide(const Work& k, std::int32_t x, std::int32_t centre) {
     const Plan& p = k.p;
     constexpr float kInf = static_cast<float>(math::kInfinity);
-    if (x - k.c.d_min < 0 || x - k.c.d_max > k.w - 1) {
-        return {Reason::kBorder, kNoDisparity, kInf};
+    const OffsetRange range = offsetRange(k, x, centre);
+    if (range.reason != Reason::kValid) {
+        return {range.reason, kNoDisparity, kInf};
     }
+    const std::int32_t jLo = range.lo;
+    const std::int32_t jHi = range.hi;
     const std::int32_t j0 = k.bestIndex[x];
     const std::int32_t c0 = k.best[x];
     const std::size_t col = static_cast<std::size_t>(x);
     const std::size_t row = static_cast<std::size_t>(p.width);
-    if (p.disparities >= 3 && (j0 == 0 || j0 == p.disparities - 1)) {
+    if (j0 < jLo || j0 > jHi) {
+        return {Reason::kOutOfRange, kNoDisparity, kInf};  // the best lies outside the image
+    }
+    if (p.disparities >= 3 && (j0 == jLo || j0 == jHi)) {
         // A peak on the boundary: out of range, unless the curve is flat there (ties
         // resolve to the lowest disparity), which is missing texture.
-        const std::int32_t inner = k.winSums[static_cast<std::size_t>(j0 == 0 ? 1 : j0 - 1) * row + col];
+        const std::int32_t inner = k.winSums[static_cast<std::size_t>(j0 == jLo ? j0 + 1 : j0 - 1) * row + col];
         return {inner == c0 ? Reason::kNoTexture : Reason::kOutOfRange, kNoDisparity, kInf};
     }
     const std::int32_t cm = j0 > 0 ? k.winSums[static_cast<std::size_t>(j0 - 1) * row + col] : c0;
@@ -173,10 +254,11 @@ Decision decide(const Work& k, std::int32_t x) {
         static_cast<std::int64_t>(k.second[x]) * 100 <= static_cast<std::int64_t>(c0) * (100 + k.c.uniqueness_percent)) {
         return {Reason::kAmbiguous, kNoDisparity, kInf};
     }
-    const std::int32_t d0 = k.c.d_min + j0;
+    const std::int32_t d0 = centre + k.c.d_min + j0;
     if (k.c.lr_max_diff_px >= 0) {
         const std::int32_t xr = x - d0;
-        const std::int32_t back = (xr >= 0 && xr < k.w && k.rlIndex[xr] >= 0) ? k.c.d_min + k.rlIndex[xr] : d0 + 1000;
+        const std::int32_t back =
+            (xr >= 0 && xr < k.w && k.rlDisparity[xr] != kNoDisparity) ? k.rlDisparity[xr] : d0 + 1000;
         const std::int32_t diff = back > d0 ? back - d0 : d0 - back;
         if (diff > k.c.lr_max_diff_px) {
             return {Reason::kLeftRightMismatch, kNoDisparity, kInf};
@@ -189,13 +271,14 @@ Decision decide(const Work& k, std::int32_t x) {
 }
 
 void emitRow(const Work& k, std::int32_t y, const DisparityOutput& out, StereoStats* stats) {
+    const std::int16_t* priorRow = k.prior.valid() ? k.prior.row(y) : nullptr;
     windowSumsAndBest(k);
-    searchRow(k);
+    searchRow(k, priorRow);
     std::int16_t* disp = out.disparity_px16.row(y);
     float* sigma = out.sigma_px.valid() ? out.sigma_px.row(y) : nullptr;
     std::uint8_t* reason = out.reason.valid() ? out.reason.row(y) : nullptr;
     for (std::int32_t x = 0; x < k.w; ++x) {
-        const Decision dec = decide(k, x);
+        const Decision dec = decide(k, x, priorRow != nullptr ? std::int32_t{priorRow[x]} : 0);
         disp[x] = dec.reason == Reason::kValid
                       ? static_cast<std::int16_t>(static_cast<std::int32_t>(dec.disparity16) + k.shift16)
                       : dec.disparity16;
@@ -213,7 +296,8 @@ void emitRow(const Work& k, std::int32_t y, const DisparityOutput& out, StereoSt
 
 
 Status checkInputs(const Config& c, const ImageView<const std::uint8_t>& left,
-                   const ImageView<const std::uint8_t>& right, const DisparityOutput& out) {
+                   const ImageView<const std::uint8_t>& right, const ImageView<const std::int16_t>& prior,
+                   const DisparityOutput& out) {
     if (!left.valid() || !right.valid()) {
         return Status(StatusCode::kInvalidArgument, "MlStereo::compute: left or right image is empty");
     }
@@ -226,6 +310,10 @@ Status checkInputs(const Config& c, const ImageView<const std::uint8_t>& left,
     }
     if (!out.disparity_px16.valid() || !out.disparity_px16.sameSize(left.width(), left.height())) {
         return Status(StatusCode::kSizeMismatch, "MlStereo::compute: disparity output must match the image size");
+    }
+    if (prior.valid() && !prior.sameSize(left.width(), left.height())) {
+        return Status(StatusCode::kSizeMismatch, "MlStereo::compute: the disparity prior must match the image size",
+                      prior.width());
     }
     if ((out.sigma_px.data() != nullptr && !out.sigma_px.sameSize(left.width(), left.height())) ||
         (out.reason.data() != nullptr && !out.reason.sameSize(left.width(), left.height()))) {
@@ -279,7 +367,7 @@ void streamRows(const Work& k, const DisparityOutput& out, StereoStats* stats) {
             detail::distanceTransformRowY(p, detail::RowGeometry{yIn, k.h, k.w, binUsed}, k.dtRing, k.table,
                                           k.dtRow);
         }
-        pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn % (2 * p.half + 1));
+        pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn, yIn % (2 * p.half + 1));
         if (yIn >= p.half) {
             emitRow(k, yIn - p.half, out, stats);
         }
@@ -293,14 +381,14 @@ Status MlStereo::compute(const ImageView<const std::uint8_t>& left, const ImageV
     if (!initialized_) {
         return Status(StatusCode::kNotInitialized, "MlStereo::compute: init() has not succeeded");
     }
-    VTM_RETURN_IF_ERROR(checkInputs(config_, left, right, out));
+    VTM_RETURN_IF_ERROR(checkInputs(config_, left, right, prior_, out));
     const std::int32_t w = left.width();
     const std::int32_t h = left.height();
     Work k{detail::makePlan(config_), config_, w, h, costTable_.data(),
            ImageView<std::uint8_t>(leftFiltered_.data(), w, h), ImageView<std::uint8_t>(rightFiltered_.data(), w, h),
            dtRing_.data(), dtRow_.data(), templateOffset_.data(), costRing_.data(), colSums_.data(),
            winSums_.data(), bestCost_.data(), secondCost_.data(), bestIndex_.data(), rlCost_.data(),
-           rlIndex_.data()};
+           rlDisparity_.data(), prior_};
     const std::int32_t shift = window_min_ - config_.d_min;
     k.shift16 = shift * kDisparityScale;
     if (shift == 0) {

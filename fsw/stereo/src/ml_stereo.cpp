@@ -59,7 +59,7 @@ std::size_t MlStereo::workspaceBytes(const Config& config) noexcept {
            + 2U * Arena::blockBytes(w * sizeof(std::int32_t))       // best, second-best cost
            + Arena::blockBytes(w * sizeof(std::int16_t))            // best index
            + Arena::blockBytes(w * sizeof(std::int32_t))            // right-to-left best cost
-           + Arena::blockBytes(w * sizeof(std::int16_t));           // right-to-left best index
+           + Arena::blockBytes(w * sizeof(std::int16_t));           // right-to-left best disparity
 }
 
 Status MlStereo::init(const Config& config, Arena& arena) noexcept {
@@ -82,11 +82,11 @@ Status MlStereo::init(const Config& config, Arena& arena) noexcept {
     secondCost_ = arena.allocateArray<std::int32_t>(w);
     bestIndex_ = arena.allocateArray<std::int16_t>(w);
     rlCost_ = arena.allocateArray<std::int32_t>(w);
-    rlIndex_ = arena.allocateArray<std::int16_t>(w);
+    rlDisparity_ = arena.allocateArray<std::int16_t>(w);
     if (costTable_.empty() || leftFiltered_.empty() || rightFiltered_.empty() || boxColumns_.empty() ||
         dtRing_.empty() || dtRow_.empty() || templateOffset_.empty() || costRing_.empty() ||
         colSums_.empty() || winSums_.empty() || bestCost_.empty() || secondCost_.empty() ||
-        bestIndex_.empty() || rlCost_.empty() || rlIndex_.empty()) {
+        bestIndex_.empty() || rlCost_.empty() || rlDisparity_.empty()) {
         return Status(StatusCode::kOutOfMemory, "MlStereo::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
@@ -109,6 +109,19 @@ Status MlStereo::setDisparityWindow(std::int32_t d_min) noexcept {
                       "MlStereo::setDisparityWindow: d_min: the window must lie in -2047..2047 px", d_min);
     }
     window_min_ = d_min;
+    prior_ = ImageView<const std::int16_t>();
+    return Status::ok();
+}
+
+Status MlStereo::setDisparityPrior(const ImageView<const std::int16_t>& prior_px) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "MlStereo::setDisparityPrior: init() has not succeeded");
+    }
+    if (!prior_px.valid()) {
+        return Status(StatusCode::kInvalidArgument, "MlStereo::setDisparityPrior: prior_px is empty");
+    }
+    window_min_ = config_.d_min;
+    prior_ = prior_px;
     return Status::ok();
 }
 

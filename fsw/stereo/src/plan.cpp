@@ -61,8 +61,10 @@ Plan makePlan(const Config& c) noexcept {
     p.binReach = reach;
     const std::int32_t area = c.window * c.window;
     p.maxCost = (65535 / area < 255) ? 65535 / area : 255;  // window sums fit 16 bits
-    p.padLeft = c.d_max > 0 ? c.d_max : 0;
-    p.dtStride = p.width + p.padLeft + (c.d_min < 0 ? -c.d_min : 0);
+    // A prior's search centre may lie up to `disparities` columns outside the right image
+    // (compute() clamps it there): that many more columns of padding on each side.
+    p.padLeft = (c.d_max > 0 ? c.d_max : 0) + p.disparities;
+    p.dtStride = p.width + p.padLeft + (c.d_min < 0 ? -c.d_min : 0) + p.disparities;
     p.costStride = p.width + 2 * p.half;
     const double top = negLogLikelihood(c, p, p.d2Cap);
     p.costPerNat = static_cast<double>(p.maxCost) / (top > 0.0 ? top : 1.0);

@@ -39,15 +39,16 @@ constexpr std::int16_t kNoDisparity = INT16_MIN;
 // Why a pixel has no disparity (kValid when it has one). Values are stable (telemetry).
 enum class Reason : std::uint8_t {
     kValid = 0,
-    kBorder = 1,             // no search position inside the right image
+    kBorder = 1,             // the search leaves the right image (Config::clip_search_to_image)
     kNoTexture = 2,          // likelihood curve too flat around its peak
     kAmbiguous = 3,          // a separate peak almost as likely as the best
     kLeftRightMismatch = 4,  // right-to-left search disagrees by more than lr_max_diff_px
     kOutOfRange = 5,         // best disparity on the boundary of [d_min, d_max]
     kLowLikelihood = 6,      // even the best window is mostly outliers
     kSpeckle = 7,            // an island too small to trust (SpeckleFilter, speckle_filter.hpp)
+    kNoPrior = 8,            // not searched: the disparity prior has none here (setDisparityPrior)
 };
-constexpr std::int32_t kReasonCount = 8;
+constexpr std::int32_t kReasonCount = 9;
 
 // Intensity preprocessing before matching (both images).
 enum class Prefilter : std::uint8_t {
@@ -94,6 +95,11 @@ struct Config {
     std::int32_t min_curvature = 1;          // cost units; flatter peaks are kNoTexture
     std::int32_t max_outlier_percent = 90;   // best window's mean cost above this % of the
                                              // outlier cost: kLowLikelihood (100 disables)
+    // false: a pixel some of whose search leaves the right image is kBorder. true: it
+    // searches the part inside (at least 3 disparities, else kBorder; a best on that
+    // part's boundary is kOutOfRange). For wide searches, where few pixels have all of it
+    // inside (stereo::PyramidStereo).
+    bool clip_search_to_image = false;
 
     // kOk, or kInvalidConfig with the field named in the reason and its value in detail.
     [[nodiscard]] Status validate() const noexcept;
@@ -150,6 +156,22 @@ public:
     // kNotInitialized; kInvalidArgument when the window leaves -2047..2047 px (the
     // disparities in 1/16 px, with their subpixel part, must fit int16).
     [[nodiscard]] Status setDisparityWindow(std::int32_t d_min) noexcept;
+    // A disparity prior per left pixel (whole pixels; kNoDisparity: do not search this
+    // pixel), for the following compute() calls until clearDisparityPrior() or
+    // setDisparityWindow(): pixel (x, y) then searches prior(x, y) + d_min ..
+    // prior(x, y) + d_max, the Config's d_min..d_max being offsets around the prior. Each
+    // template pixel q of the window is compared at q - prior(q) - offset, so the window
+    // follows the prior's surface (a sheared window); the window sums are reused as
+    // without a prior and the cost per pixel and offset is the same. A prior whose search
+    // leaves the right image is kBorder, one whose disparities would not fit int16 in
+    // 1/16 px kOutOfRange, a pixel without prior kNoPrior. The view is read, not copied:
+    // it must stay valid and the image size (compute() checks). The window is reset to
+    // the Config's own (offsets are relative to the prior).
+    // kNotInitialized; kInvalidArgument for an empty view.
+    [[nodiscard]] Status setDisparityPrior(const ImageView<const std::int16_t>& prior_px) noexcept;
+    void clearDisparityPrior() noexcept { prior_ = ImageView<const std::int16_t>(); }
+    [[nodiscard]] bool hasDisparityPrior() const noexcept { return prior_.valid(); }
+
     // The window searched (inclusive).
     [[nodiscard]] std::int32_t windowMin() const noexcept { return window_min_; }
     [[nodiscard]] std::int32_t windowMax() const noexcept { return window_min_ + (config_.d_max - config_.d_min); }
@@ -167,6 +189,7 @@ public:
 private:
     Config config_{};
     std::int32_t window_min_ = 0;  // the searched window's first disparity
+    ImageView<const std::int16_t> prior_{};  // per-pixel disparity prior (setDisparityPrior)
     bool initialized_ = false;
     // Workspace spans, carved at init (see ml_stereo.cpp for the layout).
     Span<std::uint8_t> costTable_{};     // cost by squared distance (D2 units)
@@ -183,7 +206,7 @@ private:
     Span<std::int32_t> secondCost_{};
     Span<std::int16_t> bestIndex_{};
     Span<std::int32_t> rlCost_{};        // per right column: best sum seen from the right
-    Span<std::int16_t> rlIndex_{};
+    Span<std::int16_t> rlDisparity_{};   // per right column: its disparity (whole px)
 };
 
 }  // namespace vtm::stereo
