@@ -133,11 +133,34 @@ TEST_F(VtmRunCli, FliesTheBuiltInRoverPairAndItsRangeMatchesTheRenderedTruth) {
         const float t = truth.value.pixels[i];
         if (std::isfinite(r) && std::isfinite(t)) rel.push_back(std::fabs(r - t) / t);
     }
-    ASSERT_GT(rel.size(), 5000U);  // the disparity window's band of 262,144 pixels (docs/run.md)
+    ASSERT_GT(rel.size(), 20000U);  // measured 48,050 of 262,144 (docs/run.md)
     std::sort(rel.begin(), rel.end());
     std::printf("[ measure  ] rover_range.pfm against the rendered range: median %.2f %% over %zu pixels\n",
                 100.0 * rel[rel.size() / 2], rel.size());
     EXPECT_LT(rel[rel.size() / 2], 0.06);  // median relative range error (docs/run.md)
+    // Issue 21's band: true range 12.5..300 m (2.5 x the 5 m baseline). This test has no
+    // visibility truth, so its denominator also counts band pixels image 2 does not see:
+    // the share is a lower bound of the report's good coverage.
+    std::size_t band = 0;
+    std::size_t good = 0;
+    std::vector<double> band_rel;
+    for (std::size_t i = 0; i < range.value.pixels.size(); ++i) {
+        const float r = range.value.pixels[i];
+        const float t = truth.value.pixels[i];
+        if (!(t >= 12.5F && t <= 300.0F)) continue;
+        ++band;
+        if (!std::isfinite(r)) continue;
+        band_rel.push_back(std::fabs(r - t) / t);
+        good += band_rel.back() <= 0.05 ? 1U : 0U;
+    }
+    ASSERT_GT(band_rel.size(), 0U);
+    std::sort(band_rel.begin(), band_rel.end());
+    std::printf("[ measure  ] band 12.5..300 m: %zu px, %.1f %% with a range within 5 %%, median error %.2f %%\n", band,
+                100.0 * static_cast<double>(good) / static_cast<double>(band), 100.0 * band_rel[band_rel.size() / 2]);
+    EXPECT_LE(band_rel[band_rel.size() / 2], 0.03);  // the issue's median target
+    // The issue's 60 % good coverage is missed (docs/run.md has by how much); this floor
+    // holds what is reached: measured 41.2 % at 512 x 512.
+    EXPECT_GT(static_cast<double>(good) / static_cast<double>(band), 0.35);
     for (const char* f : {"rover_rectified1.png", "rover_rectified2.png", "rover_elevation.png", "rover_points.ply"}) {
         EXPECT_GT(slurp(out + "/" + f).size(), 100U) << f;
     }

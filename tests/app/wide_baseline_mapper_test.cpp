@@ -281,10 +281,11 @@ TEST_F(WideBaselineMapperTest, MapsTheRoverPairWithinTheRangeAndHeightTargets) {
     const RangeError r = rangeError(*p, *f1);
     const MapError m = mapError(*p->height_map);
     std::printf("[ rover %dx%d ] matches %d, inliers %d, rotation error %.3f -> %.3f deg, "
-                "direction error %.3f -> %.3f deg; disparities %d..%d (%d features in), valid %d px, dropped by the ground bound %d; points %d; "
+                "direction error %.3f -> %.3f deg; disparities %d..%d (inlier plane %.3f x + %.3f y + %.1f), valid %d px, dropped by the ground bound %d; points %d; "
                 "range error median %.2f %%, within 5 %% %.1f %% (%zu px); cells %d (good %d), median |dz| %.3f m\n",
                 kSize, kSize, p->refine.matching.matched, p->refine.motion.inliers, rot_before, rot_after,
-                dir_before, dir_after, p->disparity_min, p->disparity_max, p->features_in_window, p->stereo.valid_pixels, p->outside_window,
+                dir_before, dir_after, p->disparity_min, p->disparity_max, p->inlier_plane.a, p->inlier_plane.b,
+                p->inlier_plane.c, p->stereo.valid_pixels, p->outside_window,
                 p->triangulation.points, 100.0 * r.median, 100.0 * r.within5, r.count, m.cells, m.good, m.median_abs_m);
     for (std::size_t i = 0; i < mapper_->stages().size(); ++i) {
         const StageRecord& s = mapper_->stages().at(i);
@@ -382,9 +383,8 @@ TEST_F(WideBaselineMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
         EXPECT_EQ(WideBaselineMapper::workspaceBytes(c), 0U) << field;
     };
     WideBaselineMapperConfig c = good;
-    c.stereo.d_min = 1;
-    c.stereo.d_max = 128;
-    named(c, "stereo.d_min");
+    c.stereo.fine_radius_px = 0;
+    named(c, "fine_radius_px");
     // The frame size is stated once (frame_width/frame_height): the modules' capacities are
     // set from it, whatever their own fields say.
     c = good;

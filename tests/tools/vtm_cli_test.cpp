@@ -106,7 +106,7 @@ TEST(VtmCli, ExistingCommandsKeepTheirBehaviour) {
     r = vtm(dir, "budget");
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_NE(r.out.find("Static memory budget"), std::string::npos);
-    EXPECT_NE(r.out.find("wide-baseline mapper workspace (1024x1024, 128 disparities)"), std::string::npos);
+    EXPECT_NE(r.out.find("wide-baseline mapper workspace (1024x1024, coarse to fine)"), std::string::npos);
 }
 
 // `vtm budget --timing FILE` prints the report the timing script wrote, naming it; a

@@ -41,7 +41,7 @@ const BudgetEntry kEntries[] = {
     {kF, "descent mapper object (app::DescentMapper)", "vtm_app", sizeof(app::DescentMapper)},
     {kF, "descent mapper workspace (1024x1024, 64 planes)", "vtm_app", flightDescentWorkspace()},
     {kF, "wide-baseline mapper object (app::WideBaselineMapper)", "vtm_app", sizeof(app::WideBaselineMapper)},
-    {kF, "wide-baseline mapper workspace (1024x1024, 128 disparities)", "vtm_app", flightWideBaselineWorkspace()},
+    {kF, "wide-baseline mapper workspace (1024x1024, coarse to fine)", "vtm_app", flightWideBaselineWorkspace()},
     {kP, "hal::FileCamera (1024 frame records)", "vtm_hal_file", sizeof(hal::FileCamera)},
     {kP, "hal::FileOdometry (4096 poses)", "vtm_hal_file", sizeof(hal::FileOdometry)},
     {kP, "frame file buffer (shared)", "vtm_hal_file", hal::file_limits::kMaxFrameFileBytes},

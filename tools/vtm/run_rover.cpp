@@ -63,29 +63,56 @@ struct Measured {
     double range_median = 0.0;          // |range - true| / true
     double range_within5 = 0.0;
     double range_true_median_m = 0.0;   // of the mapped pixels: how far the map reaches
+    // Coverage of the band (issue 21): image-1 pixels whose true point image 2 sees, with a
+    // true range in [band_min_m, band_max_m]; of those, how many got a range and how many
+    // a range within 5 % of the truth; ranges published on sky or on pixels image 2 does
+    // not see.
+    double band_min_m = 0.0, band_max_m = 300.0;
+    long long band_pixels = 0, band_ranged = 0, band_good = 0;
+    double band_median = 0.0;
+    long long ranged_on_sky = 0, ranged_unseen = 0;
+    GreyImage coverage;  // RGB over image 1: band pixels green (within 5 %), red (beyond), blue (no range)
     long long cells = 0;
     double dz_median_m = 0.0;           // |map - terrain| at the cell centres
     double dz_mean_m = 0.0;
 };
 
 // Range of image 1's pixels from the mapper's published points (each triangulated from a
-// rectified disparity, within the mapper's range and uncertainty limits): each point back
-// into camera 1 (nearest pixel; the nearer point wins), its range from the rectified left
-// centre. NaN where none.
+// rectified disparity, within the mapper's range and uncertainty limits): each point to the
+// rectified left pixel whose ray it lies on (the nearer point wins), then each image-1
+// pixel's ray into the rectified image and the range of the nearest rectified pixel there,
+// from the rectified left centre. NaN where none. (Projecting the points into image 1
+// directly left a grid of holes where the rectified pixels are sparser than image 1's.)
 FloatImage rangeImage(const app::WideBaselineProducts& p) {
     const CameraModel& cam = p.camera;
-    FloatImage range(cam.width_px, cam.height_px, 1, std::nanf(""));
-    const Vec3& centre = p.triangulation_geometry.left_centre_site_m;
+    const terrain::RectifiedGeometry& g = p.triangulation_geometry;
+    const std::int32_t rw = p.disparity_px16.width(), rh = p.disparity_px16.height();
+    FloatImage rect(rw, rh, 1, std::nanf(""));
+    const auto toRect = [&](const Vec3& v, std::int32_t& ix, std::int32_t& iy) {
+        if (!(v.z() > 0.0)) return false;
+        ix = static_cast<std::int32_t>(std::floor(g.fx_px * v.x() / v.z() + g.cx_left_px + 0.5));
+        iy = static_cast<std::int32_t>(std::floor(g.fy_px * v.y() / v.z() + g.cy_px + 0.5));
+        return ix >= 0 && iy >= 0 && ix < rw && iy < rh;
+    };
     for (const terrain::TerrainPoint& tp : p.points) {
-        const Vec3 site(tp.x_m, tp.y_m, tp.z_m);
-        Vec2 px;
-        if (!projectPoint(cam, p.site_from_cam1.R.transpose() * (site - p.site_from_cam1.t_m), px).isOk()) continue;
-        const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
-        const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
-        if (ix < 0 || iy < 0 || ix >= cam.width_px || iy >= cam.height_px) continue;
-        const auto r = static_cast<float>((site - centre).norm());
-        float& cell = range.at(ix, iy);
+        const Vec3 d = Vec3(tp.x_m, tp.y_m, tp.z_m) - g.left_centre_site_m;
+        std::int32_t ix = 0, iy = 0;
+        if (!toRect(g.R_site_from_rect.transpose() * d, ix, iy)) continue;
+        const auto r = static_cast<float>(d.norm());
+        float& cell = rect.at(ix, iy);
         if (!(cell <= r)) cell = r;
+    }
+    FloatImage range(cam.width_px, cam.height_px, 1, std::nanf(""));
+    const Mat3 R_rect_from_cam1 = g.R_site_from_rect.transpose() * p.site_from_cam1.R;
+    for (std::int32_t y = 0; y < cam.height_px; ++y) {
+        for (std::int32_t x = 0; x < cam.width_px; ++x) {
+            CameraRay ray;
+            std::int32_t ix = 0, iy = 0;
+            if (!backProjectPixel(cam, Vec2(x, y), ray).isOk() || !toRect(R_rect_from_cam1 * ray.direction, ix, iy)) {
+                continue;
+            }
+            range.at(x, y) = rect.at(ix, iy);
+        }
     }
     return range;
 }
@@ -123,17 +150,61 @@ Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, 
         o.image8 = ImageView<std::uint8_t>(img.data(), W, H);
     }
     o.truth.range_m = ImageView<float>(truth.data(), W, H);
+    std::vector<float> point1(img.size() * 3U);
+    o.truth.point_site_m = ImageView<float>(point1.data(), W * 3, H);
     if (!sim::renderFrame(sim::scenarioFrameRequest(w.scenario, w.terrain, *f1), o, nullptr).isOk()) return m;
-    std::vector<double> rel, reach;
+    std::vector<float> truth2(img.size());
+    o.truth = sim::FrameTruth{};
+    o.truth.range_m = ImageView<float>(truth2.data(), W, H);
+    if (!sim::renderFrame(sim::scenarioFrameRequest(w.scenario, w.terrain, *f2), o, nullptr).isOk()) return m;
+    // Seen by camera 2: projects into image 2 and image 2's true range there is the point's
+    // (within 1 %: not hidden behind other terrain).
+    const auto seenBy2 = [&](std::size_t i) {
+        const Vec3 site(point1[3 * i], point1[3 * i + 1], point1[3 * i + 2]);
+        const Vec3 X2 = f2->camera_pose.R.transpose() * (site - f2->camera_pose.t_m);
+        Vec2 px;
+        if (!projectPoint(f2->model, X2, px).isOk()) return false;
+        const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
+        const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
+        if (ix < 0 || iy < 0 || ix >= W || iy >= H) return false;
+        const double r2 = truth2[static_cast<std::size_t>(iy) * static_cast<std::size_t>(W) + static_cast<std::size_t>(ix)];
+        return std::isfinite(r2) && std::fabs(r2 - X2.norm()) <= 0.01 * X2.norm();
+    };
+    const double b_true = (f2->camera_pose.t_m - f1->camera_pose.t_m).norm();
+    m.band_min_m = std::max(10.0, 2.5 * b_true);
+    std::vector<double> rel, reach, band_rel;
+    m.coverage = GreyImage(W, H, 3);
     for (std::int32_t y = 0; y < H; ++y) {
         for (std::int32_t x = 0; x < W; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x);
             const float r = range.at(x, y);
-            const float t = truth[static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x)];
+            const float t = truth[i];
+            const bool seen = std::isfinite(t) && seenBy2(i);
+            if (std::isfinite(r) && !std::isfinite(t)) ++m.ranged_on_sky;
+            if (std::isfinite(r) && std::isfinite(t) && !seen) ++m.ranged_unseen;
+            const std::uint8_t grey = static_cast<std::uint8_t>(p.image1.row(y)[x] / 2);
+            std::uint8_t rgb[3] = {grey, grey, grey};
+            if (seen && t >= m.band_min_m && t <= m.band_max_m) {
+                ++m.band_pixels;
+                rgb[0] = rgb[1] = 0;
+                rgb[2] = 255;
+                if (std::isfinite(r)) {
+                    const double e = std::fabs(static_cast<double>(r - t)) / t;
+                    ++m.band_ranged;
+                    m.band_good += e <= 0.05 ? 1 : 0;
+                    band_rel.push_back(e);
+                    rgb[0] = e <= 0.05 ? 0 : 255;
+                    rgb[1] = e <= 0.05 ? 255 : 0;
+                    rgb[2] = 0;
+                }
+            }
+            for (std::int32_t c = 0; c < 3; ++c) m.coverage.at(x, y, c) = rgb[c];
             if (!std::isfinite(r) || !std::isfinite(t)) continue;
             rel.push_back(std::fabs(static_cast<double>(r - t)) / t);
             reach.push_back(t);
         }
     }
+    m.band_median = median(band_rel);
     m.range_pixels = static_cast<long long>(rel.size());
     m.range_median = median(rel);
     m.range_true_median_m = median(reach);
@@ -160,15 +231,22 @@ Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, 
     return m;
 }
 
-std::string writeProducts(const std::string& dir, const app::WideBaselineProducts& p, const FloatImage& range) {
+std::string writeProducts(const std::string& dir, const app::WideBaselineProducts& p, const FloatImage& range,
+                          const GreyImage& coverage) {
     const std::string base = dir + "/rover_";
     FloatImage disparity(p.disparity_px16.width(), p.disparity_px16.height(), 1, std::nanf(""));
+    float lo = 1e9F, hi = -1e9F;  // the colours span the disparities found (the range searched is far wider)
     for (std::int32_t y = 0; y < disparity.height; ++y) {
         for (std::int32_t x = 0; x < disparity.width; ++x) {
             const std::int16_t d = p.disparity_px16.row(y)[x];
-            if (d != stereo::kNoDisparity) disparity.at(x, y) = static_cast<float>(d) / stereo::kDisparityScale;
+            if (d == stereo::kNoDisparity) continue;
+            const float v = static_cast<float>(d) / stereo::kDisparityScale;
+            disparity.at(x, y) = v;
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
         }
     }
+    if (lo > hi) lo = hi = 0.0F;
     std::vector<Vec3> points;
     points.reserve(p.points.size());
     for (const terrain::TerrainPoint& q : p.points) points.emplace_back(q.x_m, q.y_m, q.z_m);
@@ -180,10 +258,20 @@ std::string writeProducts(const std::string& dir, const app::WideBaselineProduct
     if (r.ok) r = ground::writePfm(base + "disparity.pfm", disparity);
     if (r.ok) {
         r = ground::writePng(base + "disparity.png",
-                             ground::colorizeDisparity(disparity, static_cast<float>(p.disparity_min),
-                                                       static_cast<float>(p.disparity_max)));
+                             ground::colorizeDisparity(disparity, lo, hi));
     }
     if (r.ok) r = ground::writePfm(base + "range.pfm", range);
+    if (r.ok) r = ground::writePng(base + "coverage.png", coverage);
+    for (const auto& [name, view] : {std::pair<const char*, ImageView<const std::int16_t>>{"surface.pfm", p.surface_px},
+                                     {"prior.pfm", p.prior_px}}) {
+        FloatImage f(view.width(), view.height(), 1, std::nanf(""));
+        for (std::int32_t y = 0; y < f.height; ++y) {
+            for (std::int32_t x = 0; x < f.width; ++x) {
+                if (view.row(y)[x] != stereo::kNoDisparity) f.at(x, y) = view.row(y)[x];
+            }
+        }
+        if (r.ok) r = ground::writePfm(base + name, f);
+    }
     if (r.ok) r = ground::writePfm(base + "elevation.pfm", elevation);
     if (r.ok) {
         r = ground::writePng(base + "elevation.png",
@@ -217,18 +305,19 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
     Status st = mapper->init(config, arena, camera, odometry, clock, *events);
     if (!st.isOk()) return std::string("WideBaselineMapper::init: ") + st.reason();
     arena.freeze();
-    std::fprintf(stderr, "vtm run: rover pair: mapping (%d x %d, %d disparities)\n", config.frame_width,
-                 config.frame_height, config.stereo.d_max - config.stereo.d_min + 1);
+    std::fprintf(stderr, "vtm run: rover pair: mapping (%d x %d, coarse to fine)\n", config.frame_width,
+                 config.frame_height);
     const auto tm = std::chrono::steady_clock::now();
     st = mapper->map();
     const double map_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tm).count();
     std::ostringstream md;
-    char b[1024];
+    char b[2048];
     md << "## Rover wide-baseline pair\n\n"
        << "The executive `WideBaselineMapper` (fsw/app) on frames 0 and 1 of the mast camera, the poses from the "
           "odometry with its navigation errors. Frames "
-       << config.frame_width << " x " << config.frame_height << ", " << (config.stereo.d_max - config.stereo.d_min + 1)
-       << " disparities, ranges " << config.range_min_m << ".." << config.range_max_m << " m, height map "
+       << config.frame_width << " x " << config.frame_height << ", stereo coarse to fine (" << config.stereo.coarse_disparities
+       << " disparities at 1/" << (1 << config.stereo.levels) << " resolution around the inliers' plane, +-"
+       << config.stereo.fine_radius_px << " px at full resolution), ranges " << config.range_min_m << ".." << config.range_max_m << " m, height map "
        << config.height_map.grid.cols << " x " << config.height_map.grid.rows << " cells of "
        << config.height_map.grid.cell_m
        << " m; mapper memory planned at init: " << mapper->memoryBytes() << " bytes.\n\n";
@@ -244,7 +333,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
     mapped = true;
     const FloatImage range = rangeImage(*p);
     const Measured m = measure(world, *p, range);
-    const std::string written = writeProducts(out_dir, *p, range);
+    const std::string written = writeProducts(out_dir, *p, range, m.coverage);
     if (!written.empty()) return written;
     std::snprintf(b, sizeof b,
                   "| figure | value |\n|---|---|\n"
@@ -253,22 +342,32 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| translation direction error: odometry -> refined | %.3f -> %.3f deg |\n"
                   "| vertical disparity the refiner predicts after rectification | %.3f px |\n"
                   "| baseline length error (odometry, kept) | %+.2f %% |\n"
-                  "| disparity window | %d..%d px (%d of the inliers inside) |\n"
+                  "| disparity range searched | %d..%d px (coarse level: %d of %d pixels found, %d filled) |\n"
                   "| disparities found / dropped as speckles / dropped by the ground bound | %d / %d / %d |\n"
                   "| points triangulated | %d |\n"
                   "| image-1 pixels with a range | %lld (%.1f %%), true range median %.1f m |\n"
                   "| range error: median / within 5 %% | %.2f %% / %.1f %% |\n"
+                  "| band %.1f..%.0f m (image-1 pixels image 2 sees there) | %lld |\n"
+                  "| coverage / good coverage of the band / median range error there | %.1f %% / %.1f %% / %.2f %% |\n"
+                  "| ranges published on sky / on pixels image 2 does not see | %lld / %lld |\n"
                   "| height map: cells / median abs error / mean error | %lld / %.3f m / %+.3f m |\n"
                   "| time of the request | %.2f s |\n\n",
                   p->refine.matching.matched, p->refine.motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
                   m.dir_after_deg, p->refine.motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
-                  p->features_in_window, p->stereo.valid_pixels + p->speckles, p->speckles, p->outside_window, p->triangulation.points,
+                  p->pyramid.coarse.valid_pixels, (config.frame_width >> config.stereo.levels) * (config.frame_height >> config.stereo.levels),
+                  p->pyramid.coarse_filled, p->stereo.valid_pixels + p->speckles, p->speckles, p->outside_window, p->triangulation.points,
                   m.range_pixels, 100.0 * static_cast<double>(m.range_pixels) / (range.width * range.height),
-                  m.range_true_median_m, 100.0 * m.range_median, 100.0 * m.range_within5, m.cells, m.dz_median_m,
+                  m.range_true_median_m, 100.0 * m.range_median, 100.0 * m.range_within5, m.band_min_m, m.band_max_m,
+                  m.band_pixels, m.band_pixels > 0 ? 100.0 * static_cast<double>(m.band_ranged) / static_cast<double>(m.band_pixels) : 0.0,
+                  m.band_pixels > 0 ? 100.0 * static_cast<double>(m.band_good) / static_cast<double>(m.band_pixels) : 0.0,
+                  100.0 * m.band_median, m.ranged_on_sky, m.ranged_unseen, m.cells, m.dz_median_m,
                   m.dz_mean_m, map_s);
     md << b
        << "Range and height errors are against the renderer's true range of image 1 and the terrain's elevation at "
-          "the cell centres. A residual rotation error about the vertical shifts every disparity alike and scales "
+          "the cell centres. The band is where the wide-baseline map is meant to work (issue 21): true range from "
+          "max(10 m, 2.5 x baseline) to 300 m; coverage = band pixels with a range / band pixels, good coverage = band "
+          "pixels with a range within 5 % of the truth / band pixels (an image-1 pixel's range: that of the published "
+          "point on the rectified pixel its ray meets). A residual rotation error about the vertical shifts every disparity alike and scales "
           "the far ranges (docs/app.md).\n\n"
        << "### Time per stage (ms, hal::MonotonicClock on this host)\n\n|";
     for (std::size_t i = 0; i < mapper->stages().size(); ++i) md << " " << app::stageName(mapper->stages().at(i).stage) << " |";
@@ -285,9 +384,14 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
        << "![image 1](rover_image1.png) ![image 2](rover_image2.png)\n"
        << "![rectified 1](rover_rectified1.png) ![rectified 2](rover_rectified2.png)\n"
        << "![disparity](rover_disparity.png) ![elevation](rover_elevation.png)\n\n"
+       << "The band's coverage over image 1 (green: a range within 5 %, red: a range beyond 5 %, blue: no range; "
+          "grey: outside the band or not seen by image 2):\n\n![coverage](rover_coverage.png)\n\n"
        << "Files: `rover_disparity.pfm` (px, NaN = none), `rover_range.pfm` (metres per pixel of image 1), "
           "`rover_elevation.pfm` (metres, north up, NaN = NO_DATA), `rover_points.ply` (site frame).\n\n";
     section = md.str();
+    std::fprintf(stderr, "vtm run: rover pair: inlier plane d = %.4f x + %.4f y + %.1f (%d used, %.2f px)\n",
+                 p->inlier_plane.a, p->inlier_plane.b, p->inlier_plane.c, p->inlier_plane.used,
+                 p->inlier_plane.residual_px);
     std::fprintf(stderr, "vtm run: rover pair mapped in %.1f s: %lld points, median range error %.2f %%\n",
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
                  static_cast<long long>(p->triangulation.points), 100.0 * m.range_median);

@@ -4,7 +4,6 @@
 
 #include "request_support.hpp"
 #include "vtm/core/math.hpp"
-#include "vtm/stereo/disparity_window.hpp"
 #include "vtm/terrain/ground_bound.hpp"
 #include "vtm/terrain/rectified_geometry.hpp"
 
@@ -60,8 +59,8 @@ terrain::TriangulationLimits limitsOf(const WideBaselineMapperConfig& c) noexcep
     return l;
 }
 
-stereo::Config stereoConfigOf(const WideBaselineMapperConfig& c) noexcept {
-    stereo::Config s = c.stereo;
+stereo::PyramidConfig stereoConfigOf(const WideBaselineMapperConfig& c) noexcept {
+    stereo::PyramidConfig s = c.stereo;
     s.max_width = rectifiedWidth(c);
     s.max_height = rectifiedHeight(c);
     return s;
@@ -75,10 +74,10 @@ stereo::SpeckleConfig speckleConfigOf(const WideBaselineMapperConfig& c) noexcep
 
 }  // namespace
 
-stereo::Config wideBaselineStereoConfig() noexcept {
-    stereo::Config s = stereo::Config::conservative();
-    s.d_min = 0;
-    s.d_max = 127;
+stereo::PyramidConfig wideBaselineStereoConfig() noexcept {
+    stereo::PyramidConfig s;
+    s.matcher = stereo::Config::conservative();
+    s.matcher.lr_max_diff_px = 2;
     return s;
 }
 
@@ -97,9 +96,6 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(stereoConfigOf(*this).validate());
     VTM_RETURN_IF_ERROR(limitsOf(*this).validate());
     VTM_RETURN_IF_ERROR(height_map.validate());
-    if (stereo.d_min != 0) {
-        return invalid("stereo.d_min: must be 0 (the mapper places the disparity window per pair)", stereo.d_min);
-    }
     if (!detail::inRange(attitude_sigma_rad, 0.0, math::kPi)) {
         return invalid("attitude_sigma_rad: must be 0..pi");
     }
@@ -120,13 +116,13 @@ std::size_t WideBaselineMapper::workspaceBytes(const WideBaselineMapperConfig& c
     const Sizes s = sizesOf(config);
     return refine::PairRefiner::workspaceBytes(refineConfigOf(config))  // each module's own plan
            + rectify::Rectifier::workspaceBytes(rectifyConfigOf(config)) +
-           stereo::MlStereo::workspaceBytes(stereoConfigOf(config)) +
+           stereo::PyramidStereo::workspaceBytes(stereoConfigOf(config)) +
            stereo::SpeckleFilter::workspaceBytes(speckleConfigOf(config)) +
            terrain::HeightMap::workspaceBytes(config.height_map) +
            Arena::arrayBytes<std::uint16_t>(s.frame)              // staging frame of a > 8-bit camera
            + 2U * Arena::arrayBytes<std::uint8_t>(s.frame)        // the two frames (8-bit)
            + 2U * Arena::arrayBytes<std::uint8_t>(s.rectified)    // rectified pair
-           + Arena::arrayBytes<std::int16_t>(s.rectified)         // disparity
+           + 2U * Arena::arrayBytes<std::int16_t>(s.rectified)    // inlier plane's disparity, disparity
            + Arena::arrayBytes<float>(s.rectified)                // its sigma
            + Arena::arrayBytes<terrain::TerrainPoint>(s.rectified);  // one point per rectified pixel
 }
@@ -161,12 +157,13 @@ Status WideBaselineMapper::init(const WideBaselineMapperConfig& config, Arena& a
     grey2_ = carve<std::uint8_t>(arena, w, h);
     rect1_ = carve<std::uint8_t>(arena, rw, rh);
     rect2_ = carve<std::uint8_t>(arena, rw, rh);
+    surface_ = carve<std::int16_t>(arena, rw, rh);
     disparity_ = carve<std::int16_t>(arena, rw, rh);
     sigma_ = carve<float>(arena, rw, rh);
     points_ = arena.allocateArray<terrain::TerrainPoint>(sizesOf(config).rectified);
     if (frame16_.data() == nullptr || grey1_.data() == nullptr ||
         grey2_.data() == nullptr || rect1_.data() == nullptr ||
-        rect2_.data() == nullptr || disparity_.data() == nullptr ||
+        rect2_.data() == nullptr || surface_.data() == nullptr || disparity_.data() == nullptr ||
         sigma_.data() == nullptr || points_.empty()) {
         return Status(StatusCode::kOutOfMemory, "WideBaselineMapper::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
@@ -273,54 +270,53 @@ Status WideBaselineMapper::runRectify() noexcept {
                   st.isOk() ? static_cast<std::int64_t>(std::floor(100.0 * p.rectified.convergence_deg + 0.5)) : 0, t0);
 }
 
-// The disparity window (stereo::placeDisparityWindow) on the refined inliers' rectified
-// disparities, inside the rectifier's bounds for the range interval.
-Status WideBaselineMapper::placeDisparityWindow() noexcept {
+// The coarse search's surface: the plane in disparity space through the refined inliers'
+// rectified disparities (stereo::fitDisparityPlane), within the rectifier's bounds.
+Status WideBaselineMapper::searchSurface() noexcept {
     WideBaselineProducts& p = products_;
     std::size_t n = 0U;
-    const refine::Result& r = products_.refine;
-    for (std::size_t i = 0U; i < r.pixels_a.size(); ++i) {
+    const refine::Result& r = p.refine;
+    for (std::size_t i = 0U; i < r.pixels_a.size() && n < features::kMaxFeatures; ++i) {
         Vec2 ra;
         Vec2 rb;
         if (r.inliers[i] == 0U || !rectifier_.rectifyPixel(rectify::Rectifier::Side::kA, r.pixels_a[i], ra).isOk() ||
             !rectifier_.rectifyPixel(rectify::Rectifier::Side::kB, r.pixels_b[i], rb).isOk()) {
             continue;
         }
-        disparities_[n] = ra.x() - rb.x();
+        samples_[n] = Vec3(ra.x(), ra.y(), ra.x() - rb.x());
         ++n;
     }
-    if (n == 0U) {
-        return Status(StatusCode::kDegenerate, "stereo: no refined inlier maps into the rectified pair");
+    if (n < 3U) {
+        return Status(StatusCode::kDegenerate, "stereo: fewer than 3 refined inliers map into the rectified pair",
+                      static_cast<std::int64_t>(n));
     }
-    stereo::DisparityWindow window;
-    VTM_RETURN_IF_ERROR(stereo::placeDisparityWindow(Span<double>(disparities_, n),
-                                                     config_.stereo.d_max - config_.stereo.d_min + 1,
-                                                     p.rectified.d_min, p.rectified.d_max, window));
-    p.disparity_min = window.d_min;
-    p.disparity_max = window.d_max;
-    p.features_in_window = window.samples_inside;
-    return Status::ok();
+    VTM_RETURN_IF_ERROR(stereo::fitDisparityPlane(Span<const Vec3>(samples_, n),
+                                                  Span<double>(residuals_, features::kMaxFeatures), p.inlier_plane));
+    // Inside the disparities MlStereo can represent (a 3 m range at a 5 m baseline is beyond).
+    constexpr std::int32_t kLimit = 2000;
+    return stereo::fillDisparityPlane(p.inlier_plane, p.disparity_min > -kLimit ? p.disparity_min : -kLimit,
+                                      p.disparity_max < kLimit ? p.disparity_max : kLimit, surface_);
 }
 
-// The matcher searches the placed window; the speckle filter; then the ground bound
-// (terrain::boundByGround) drops disparities that a plane relief_below_m under the ground
-// the rover stands on puts beyond the window.
+// PyramidStereo around the inlier plane; the speckle filter; then the ground bound (terrain::boundByGround) drops
+// disparities that a plane relief_below_m under that ground puts beyond the bounds.
 Status WideBaselineMapper::runStereo() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     WideBaselineProducts& p = products_;
-    Status st = placeDisparityWindow();
-    if (st.isOk()) {
-        st = stereo_.setDisparityWindow(p.disparity_min);
-    }
+    p.disparity_min = p.rectified.d_min;
+    p.disparity_max = p.rectified.d_max;
+    const double ground_z = pose1_.position_m[2];  // site z is down; the vehicle's origin is on the ground
+    Status st = searchSurface();
     const stereo::DisparityOutput out{disparity_, sigma_, {}};
     if (st.isOk()) {
-        st = stereo_.compute(rect1_, rect2_, out, &p.stereo);
+        st = stereo_.compute(rect1_, rect2_, surface_, p.disparity_min, p.disparity_max, out, &p.pyramid);
+        p.stereo = p.pyramid.fine;
     }
     if (st.isOk()) {
         st = speckle_.apply(out, &p.stereo, &p.speckles);
     }
     if (st.isOk()) {
-        const double plane_z = pose1_.position_m[2] + config_.relief_below_m;  // site z is down
+        const double plane_z = ground_z + config_.relief_below_m;
         st = terrain::boundByGround(p.triangulation_geometry, plane_z, p.disparity_min, p.disparity_max, disparity_,
                                     p.outside_window);
     }
@@ -364,6 +360,7 @@ Status WideBaselineMapper::map() noexcept {
     }
     products_.refine = refine::Result{};
     products_.stereo = stereo::StereoStats{};
+    products_.pyramid = stereo::PyramidStats{};
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture1, grey1_, products_.frame1));
     VTM_RETURN_IF_ERROR(poseOf(Stage::kPose1, products_.frame1, pose1_));
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture2, grey2_, products_.frame2));
@@ -380,6 +377,8 @@ Status WideBaselineMapper::map() noexcept {
     products_.rectified2 = rect2_;
     products_.disparity_px16 = disparity_;
     products_.sigma_px = sigma_;
+    products_.surface_px = surface_;
+    products_.prior_px = stereo_.prior();
     products_.points = Span<const terrain::TerrainPoint>(points_.data(),
                                                          static_cast<std::size_t>(products_.triangulation.points));
     products_.height_map = &map_;

@@ -18,13 +18,13 @@
 //                feature; the baseline length stays the odometry's); camera 2's pose is
 //                replaced by the refined one
 //   rectify      Fusiello rectification of the refined pair and both remapped images
-//   stereo       the disparity window (stereo.d_max - stereo.d_min + 1 disparities) is
-//                placed on the refined features' rectified disparities
-//                (stereo::placeDisparityWindow: the window that holds most of them,
-//                centred on them, inside the rectifier's bounds); MlStereo searches it
-//                (setDisparityWindow); speckles are dropped; disparities whose ray the
-//                ground bound puts beyond the window are dropped (terrain::boundByGround,
-//                relief_below_m)
+//   stereo       coarse to fine (stereo::PyramidStereo): the coarse level (1/4 size)
+//                searches around the plane in disparity space through the refined
+//                inliers' rectified disparities (stereo::fitDisparityPlane; its window
+//                sheared along the plane), the full resolution searches around the
+//                coarse result; speckles are dropped; disparities whose ray the ground
+//                bound puts beyond the rectifier's bounds for the range interval are
+//                dropped (terrain::boundByGround, relief_below_m)
 //   triangulate  every disparity to a site point with its range sigma (fsw/terrain)
 //   grid         terrain::HeightMap on the configured site grid (height_map: the highest
 //                point per cell by default)
@@ -53,17 +53,20 @@
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
 #include "vtm/refine/pair_refiner.hpp"
+#include "vtm/stereo/disparity_window.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/stereo/pyramid_stereo.hpp"
 #include "vtm/stereo/speckle_filter.hpp"
 #include "vtm/terrain/height_map.hpp"
 #include "vtm/terrain/triangulation.hpp"
 
 namespace vtm::app {
 
-// The dense stereo of the default flight configuration: 128 disparities (0..127; the
-// mapper places the window per pair), the conservative failure checks (left-right 1 px,
-// uniqueness 5 %: a wrong range in a map is worse than none).
-[[nodiscard]] stereo::Config wideBaselineStereoConfig() noexcept;
+// The dense stereo of the default flight configuration: PyramidStereo's defaults (one
+// level down, 128 coarse disparities around the inlier plane, +-12 px at full
+// resolution) with the conservative matcher's left-right check at 2 px (uniqueness is
+// off in PyramidStereo; docs/app.md has the measurements).
+[[nodiscard]] stereo::PyramidConfig wideBaselineStereoConfig() noexcept;
 
 struct WideBaselineMapperConfig {
     // Capacities, stated once: the camera's frame size. The mapper sets refine's and
@@ -82,12 +85,12 @@ struct WideBaselineMapperConfig {
     // 0..pi: the refiner's rotation prior. 0 = none (the rover's heading error is large).
     double attitude_sigma_rad = 0.0;
     rectify::Config rectify{};       // its range limits are replaced by range_*_m
-    stereo::Config stereo = wideBaselineStereoConfig();  // d_min must be 0 (the window is placed per pair)
+    stereo::PyramidConfig stereo = wideBaselineStereoConfig();
     terrain::TriangulationLimits limits{};  // its range limits are replaced by range_*_m
     // The terrain's range along camera 1's rays: the matching's search segment, the
     // refiner's clamp, the rectifier's disparity bounds, the triangulation's limits.
     double range_min_m = 3.0;
-    double range_max_m = 200.0;
+    double range_max_m = 300.0;  // the far end of the band the map is for (issue 21)
     double min_baseline_m = 0.2;  // shorter drives are refused (kDegenerate), 0.01..100
     // How far the terrain may lie below the ground the rover stands on (craters, down
     // slopes), metres, 0..1000: along a ray that points down the terrain is hit no farther
@@ -98,7 +101,16 @@ struct WideBaselineMapperConfig {
     // stereo's): islands of at most speckle.max_region_px disparities (100 at 1024²; scale
     // with the image area) are dropped. Isolated wrong disparities on far rays put points
     // high over the ground, and a height-map cell keeps its highest point (docs/app.md).
-    stereo::SpeckleConfig speckle{};
+    stereo::SpeckleConfig speckle = defaultSpeckle();
+
+    // Neighbours within 3 px are one region: level ground changes by about baseline /
+    // camera height px per row (1.5 px on the mission pair), which splits it into rows at
+    // the filter's 1 px default (measured: docs/app.md).
+    [[nodiscard]] static stereo::SpeckleConfig defaultSpeckle() noexcept {
+        stereo::SpeckleConfig s;
+        s.max_diff_px16 = 3 * stereo::kDisparityScale;
+        return s;
+    }
     // The height map: its site grid (north-west corner, cell, size; terrain::GridConfig)
     // and reducer (the highest point per cell, paper §6). Every request maps into the same
     // grid, so successive maps merge (terrain::HeightMap::merge).
@@ -127,6 +139,8 @@ struct WideBaselineProducts {
     ImageView<const std::uint8_t> rectified2;
     ImageView<const std::int16_t> disparity_px16;  // rectified 1's size, 1/16 px, d = x1 - x2; kNoDisparity
     ImageView<const float> sigma_px;               // 1-sigma of each disparity, px
+    ImageView<const std::int16_t> surface_px;      // the inlier plane's disparity, whole px (the coarse search's centre)
+    ImageView<const std::int16_t> prior_px;        // the full-resolution search's centre, whole px; kNoDisparity
     Span<const terrain::TerrainPoint> points;      // site frame, row-major over rectified 1
     const terrain::HeightMap* height_map = nullptr;
     CameraModel camera{};                   // the camera's model (both frames)
@@ -141,10 +155,11 @@ struct WideBaselineProducts {
     // matches, inliers and their ranges, the motion and its covariance, the change from the
     // odometry in degrees (rotation_change_deg, direction_change_deg).
     refine::Result refine{};
-    std::int32_t disparity_min = 0;     // the disparity window searched, px (inclusive)
-    std::int32_t disparity_max = 0;
-    std::int32_t features_in_window = 0;  // refined inliers whose disparity fell inside it
-    stereo::StereoStats stereo{};          // of the window's search
+    std::int32_t disparity_min = 0;     // the range searched, px (inclusive): the rectifier's
+    std::int32_t disparity_max = 0;     // bounds for the range interval
+    stereo::PyramidStats pyramid{};        // the coarse and the full-resolution search
+    stereo::StereoStats stereo{};          // of the full-resolution search (pyramid.fine)
+    stereo::DisparityPlane inlier_plane{};  // the coarse search's surface (its fit to the inliers)
     std::int32_t speckles = 0;             // disparities dropped by the speckle filter
     std::int32_t outside_window = 0;       // disparities dropped by the ground bound (relief_below_m)
     terrain::TriangulationStats triangulation{};
@@ -183,7 +198,7 @@ private:
     [[nodiscard]] Status planGeometry() noexcept;
     [[nodiscard]] Status refinePose() noexcept;
     [[nodiscard]] Status runRectify() noexcept;
-    [[nodiscard]] Status placeDisparityWindow() noexcept;
+    [[nodiscard]] Status searchSurface() noexcept;
     [[nodiscard]] Status runStereo() noexcept;
     [[nodiscard]] Status runTriangulate() noexcept;
     [[nodiscard]] Status runGrid() noexcept;
@@ -197,15 +212,17 @@ private:
     CameraModel model_{};
     refine::PairRefiner refiner_{};
     rectify::Rectifier rectifier_{};
-    stereo::MlStereo stereo_{};
+    stereo::PyramidStereo stereo_{};
     stereo::SpeckleFilter speckle_{};
     terrain::HeightMap map_{};
-    double disparities_[features::kMaxFeatures] = {};  // rectified disparities of the inliers (sorted by the placement)
     ImageView<std::uint16_t> frame16_{};  // staging frame of a camera of more than 8 bits
     ImageView<std::uint8_t> grey1_{};
     ImageView<std::uint8_t> grey2_{};
     ImageView<std::uint8_t> rect1_{};
     ImageView<std::uint8_t> rect2_{};
+    Vec3 samples_[features::kMaxFeatures] = {};   // the inliers' rectified (x, y, disparity)
+    double residuals_[features::kMaxFeatures] = {};
+    ImageView<std::int16_t> surface_{};  // the inlier plane's disparity (the coarse search's centre)
     ImageView<std::int16_t> disparity_{};
     ImageView<float> sigma_{};
     Span<terrain::TerrainPoint> points_{};
