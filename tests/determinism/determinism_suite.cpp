@@ -14,7 +14,7 @@
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
 #include "vtm/refine/pair_refiner.hpp"
-#include "vtm/stereo/disparity_window.hpp"
+#include "vtm/stereo/disparity_plane.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 #include "vtm/stereo/pyramid_stereo.hpp"
 #include "vtm/terrain/ground_bound.hpp"
@@ -561,15 +561,7 @@ void hashTerrain(Hasher& h) noexcept {
             disparity[y * 64 + x] = static_cast<std::int16_t>(16 * 12 + 7 * y + (x % 5));
         }
     }
-    // The window placement on samples spread over the disparities, and the ground bound.
-    static double samples[40];
-    for (std::int32_t i = 0; i < 40; ++i) {
-        samples[i] = 11.0 + 0.37 * static_cast<double>((i * 17) % 40);
-    }
-    stereo::DisparityWindow window;
-    h.addI64(static_cast<std::int64_t>(stereo::placeDisparityWindow(Span<double>(samples, 40), 8, 0, 100, window).code()));
-    h.addI64(window.d_min);
-    h.addI64(window.samples_inside);
+    // The ground bound.
     terrain::RectifiedGeometry tilted = g;  // looking north, 20 deg down, 1.9 m up
     const double tilt = 20.0 * math::kPi / 180.0;
     tilted.R_site_from_rect.col(0) = Vec3(0.0, 1.0, 0.0);
@@ -579,7 +571,7 @@ void hashTerrain(Hasher& h) noexcept {
     static std::int16_t bounded[64 * 48];
     std::memcpy(bounded, disparity, sizeof bounded);
     std::int32_t dropped = 0;
-    h.addI64(static_cast<std::int64_t>(terrain::boundByGround(tilted, 1.0, window.d_min, window.d_max,
+    h.addI64(static_cast<std::int64_t>(terrain::boundByGround(tilted, 1.0, 14, 21,
                                                               ImageView<std::int16_t>(bounded, 64, 48), dropped)
                                            .code()));
     h.addI64(dropped);

@@ -1,7 +1,7 @@
 // fsw/stereo: the disparity window (MlStereo::setDisparityWindow) against the search it
-// replaces in the wide-baseline mapper (the right image copied shifted by the window's
-// start, 0 outside, searched over the Config's disparities, the start added back), and
-// placeDisparityWindow on hand-made disparities. Runs on every target.
+// replaced in the wide-baseline mapper (the right image copied shifted by the window's
+// start, 0 outside, searched over the Config's disparities, the start added back). Runs on
+// every target.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +12,6 @@
 #include "smooth_texture.hpp"
 #include "vtm/core/assert.hpp"
 #include "vtm/core/random.hpp"
-#include "vtm/stereo/disparity_window.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
 namespace vtm::stereo {
@@ -246,108 +245,6 @@ TEST(MlStereoWindow, AMovedWindowTouchesNoHeap) {
                                  ImageView<const std::uint8_t>(p.right.data(), kW, kH), out)
                         .isOk());
     }
-    EXPECT_EQ(guard.heapCalls(), 0U);
-}
-
-// ---- placeDisparityWindow ------------------------------------------------------------
-
-DisparityWindow place(std::vector<double> samples, std::int32_t count, std::int32_t lo = -1000,
-                      std::int32_t hi = 1000) {
-    DisparityWindow w;
-    w.d_min = w.d_max = w.samples_inside = -99999;
-    const Status s = placeDisparityWindow(Span<double>(samples.data(), samples.size()), count, lo, hi, w);
-    EXPECT_TRUE(s.isOk()) << s.reason();
-    return w;
-}
-
-TEST(PlaceDisparityWindow, CentresOnTheLargestGroupWithTwoPixelsOfMargin) {
-    // count 16: a group spans at most 11 px. {10, 11, 12} beats {50}; centre 11:
-    // d_min = floor(11 - 7.5 + 0.5) = 4.
-    DisparityWindow w = place({50.0, 12.0, 10.0, 11.0}, 16);
-    EXPECT_EQ(w.d_min, 4);
-    EXPECT_EQ(w.d_max, 19);
-    EXPECT_EQ(w.samples_inside, 3);
-    // Two samples exactly 11 px apart are one group, with 2 px to each window edge.
-    w = place({0.0, 11.0}, 16);
-    EXPECT_EQ(w.d_min, -2);
-    EXPECT_EQ(w.d_max, 13);
-    EXPECT_EQ(w.samples_inside, 2);
-    // 12 px apart they are not: two groups of one, the lower one wins: centre 0.
-    w = place({12.0, 0.0}, 16);
-    EXPECT_EQ(w.d_min, -7);
-    EXPECT_EQ(w.samples_inside, 1);
-    // Equal groups: the lowest disparities. {0, 1} and {100, 101}: centre 0.5,
-    // floor(0.5 - 7.5 + 0.5) = -7.
-    w = place({100.0, 1.0, 101.0, 0.0}, 16);
-    EXPECT_EQ(w.d_min, -7);
-    EXPECT_EQ(w.samples_inside, 2);
-    // Halves round up: centre -3 with count 4: floor(-3 - 1.5 + 0.5) = -4.
-    w = place({-3.0}, 4);
-    EXPECT_EQ(w.d_min, -4);
-    EXPECT_EQ(w.d_max, -1);
-    // count < 5: no group spans anything; the lowest sample alone is the group.
-    w = place({5.5, 5.0}, 3);
-    EXPECT_EQ(w.d_min, 4);
-    EXPECT_EQ(w.d_max, 6);
-    EXPECT_EQ(w.samples_inside, 2);
-    // A wide spread: the densest 124 px of a 128 window (the mapper's count).
-    std::vector<double> many;
-    for (int i = 0; i < 30; ++i) many.push_back(-150.0 + 4.0 * i);  // -150 .. -34
-    many.push_back(40.0);
-    many.push_back(-400.0);
-    w = place(many, 128);
-    EXPECT_EQ(w.d_min, static_cast<std::int32_t>(std::floor(0.5 * (-150.0 - 34.0) - 63.5 + 0.5)));
-    EXPECT_EQ(w.samples_inside, 30);
-}
-
-TEST(PlaceDisparityWindow, StaysInsideBoundsThatHoldItAndSortsTheSamples) {
-    std::vector<double> samples = {2.0, 1.0};
-    DisparityWindow w;
-    ASSERT_TRUE(placeDisparityWindow(Span<double>(samples.data(), samples.size()), 16, 0, 40, w).isOk());
-    EXPECT_EQ(w.d_min, 0);  // floor(1.5 - 7) = -6, moved up to the bound
-    EXPECT_EQ(w.d_max, 15);
-    EXPECT_EQ(samples[0], 1.0);  // sorted in place
-    EXPECT_EQ(samples[1], 2.0);
-    w = place({39.0}, 16, 0, 40);  // start 32 would end at 47: moved down to end at 40
-    EXPECT_EQ(w.d_min, 25);
-    EXPECT_EQ(w.d_max, 40);
-    w = place({39.0}, 16, 25, 40);  // exactly as wide as the window
-    EXPECT_EQ(w.d_min, 25);
-    w = place({39.0}, 16, 26, 40);  // narrower bounds: not applied
-    EXPECT_EQ(w.d_min, 32);
-    // The order of the samples does not matter.
-    Random rng(5);
-    std::vector<double> a;
-    for (int i = 0; i < 40; ++i) a.push_back(-60.0 + 90.0 * rng.uniform01());
-    std::vector<double> b(a.rbegin(), a.rend());
-    const DisparityWindow wa = place(a, 32);
-    const DisparityWindow wb = place(b, 32);
-    EXPECT_EQ(wa.d_min, wb.d_min);
-    EXPECT_EQ(wa.samples_inside, wb.samples_inside);
-    // samples_inside counts the samples in the window against the sorted list.
-    std::int32_t inside = 0;
-    for (const double d : a) inside += (d >= wa.d_min && d <= wa.d_max) ? 1 : 0;
-    EXPECT_EQ(wa.samples_inside, inside);
-}
-
-TEST(PlaceDisparityWindow, BadInputsAreNamed) {
-    DisparityWindow w;
-    double one[1] = {1.0};
-    EXPECT_STREQ(placeDisparityWindow(Span<double>(), 16, 0, 10, w).reason(),
-                 "placeDisparityWindow: samples: no disparity to place the window on");
-    EXPECT_EQ(placeDisparityWindow(Span<double>(one, 1), 0, 0, 10, w).code(), StatusCode::kInvalidArgument);
-    EXPECT_EQ(placeDisparityWindow(Span<double>(one, 1), 1025, 0, 10, w).detail(), 1025);
-    EXPECT_STREQ(placeDisparityWindow(Span<double>(one, 1), 16, 10, 0, w).reason(),
-                 "placeDisparityWindow: bound_min is above bound_max");
-    double bad[3] = {1.0, std::nan(""), 2.0};
-    const Status s = placeDisparityWindow(Span<double>(bad, 3), 16, 0, 10, w);
-    EXPECT_STREQ(s.reason(), "placeDisparityWindow: samples: not finite or beyond 1e6 px");
-    EXPECT_EQ(s.detail(), 1);
-    double far[1] = {2.0e6};
-    EXPECT_EQ(placeDisparityWindow(Span<double>(far, 1), 16, 0, 10, w).code(), StatusCode::kInvalidArgument);
-    test::NoHeapScope guard;
-    double few[4] = {3.0, 1.0, 2.0, 9.0};
-    EXPECT_TRUE(placeDisparityWindow(Span<double>(few, 4), 16, -100, 100, w).isOk());
     EXPECT_EQ(guard.heapCalls(), 0U);
 }
 

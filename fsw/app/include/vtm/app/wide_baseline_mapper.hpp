@@ -53,7 +53,7 @@
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
 #include "vtm/refine/pair_refiner.hpp"
-#include "vtm/stereo/disparity_window.hpp"
+#include "vtm/stereo/disparity_plane.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 #include "vtm/stereo/pyramid_stereo.hpp"
 #include "vtm/stereo/speckle_filter.hpp"

@@ -141,10 +141,9 @@ public:
 
     // The disparity window of the following compute() calls: d_min .. d_min + count - 1,
     // count = config.d_max - config.d_min + 1 fixed at init (init() sets the Config's own
-    // window, d_min = config.d_min). A caller that knows where the scene lies (the
-    // wide-baseline mapper, from its refined features: placeDisparityWindow in
-    // disparity_window.hpp) moves the window per request, as descent::PlaneSweep's
-    // setDepthRange moves its depths; the workspace does not change.
+    // window, d_min = config.d_min). A caller that knows where the scene lies (PyramidStereo
+    // at its coarse level, from the range asked for) moves the window per request, as
+    // descent::PlaneSweep's setDepthRange moves its depths; the workspace does not change.
     // The search runs in window coordinates: the right image is moved by
     // shift = d_min - config.d_min columns inside the workspace (right'(u) = right(u - shift)),
     // its columns outside the image black (grey level 0, before the prefilter), and the

@@ -1,5 +1,5 @@
-// placeDisparityWindow (vtm/stereo/disparity_window.hpp).
-#include "vtm/stereo/disparity_window.hpp"
+// fitDisparityPlane, fillDisparityPlane (vtm/stereo/disparity_plane.hpp).
+#include "vtm/stereo/disparity_plane.hpp"
 
 #include <cmath>
 
@@ -7,6 +7,10 @@
 
 namespace vtm::stereo {
 namespace {
+
+// Refits at most (each keeps the samples near the last fit); they stop when the kept set
+// stops changing in size.
+constexpr std::int32_t kPlaneRefits = 8;
 
 // Insertion sort, ascending (O(n^2): n is at most a feature set).
 void sortAscending(double* d, std::int32_t n) noexcept {
@@ -19,59 +23,6 @@ void sortAscending(double* d, std::int32_t n) noexcept {
         d[k] = v;
     }
 }
-
-}  // namespace
-
-Status placeDisparityWindow(Span<double> samples, std::int32_t count, std::int32_t bound_min, std::int32_t bound_max,
-                            DisparityWindow& window) noexcept {
-    if (samples.empty()) {
-        return Status(StatusCode::kInvalidArgument, "placeDisparityWindow: samples: no disparity to place the window on");
-    }
-    if (count < 1 || count > 1024) {
-        return Status(StatusCode::kInvalidArgument, "placeDisparityWindow: count must be 1..1024", count);
-    }
-    if (bound_min > bound_max) {
-        return Status(StatusCode::kInvalidArgument, "placeDisparityWindow: bound_min is above bound_max", bound_min);
-    }
-    const auto n = static_cast<std::int32_t>(samples.size() > 0x7FFFFFFFU ? 0x7FFFFFFFU : samples.size());
-    double* d = samples.data();
-    for (std::int32_t i = 0; i < n; ++i) {
-        if (!math::isFinite(d[i]) || std::fabs(d[i]) > kMaxWindowSamplePx) {
-            return Status(StatusCode::kInvalidArgument, "placeDisparityWindow: samples: not finite or beyond 1e6 px", i);
-        }
-    }
-    sortAscending(d, n);
-    // Two pixels of margin on each side for the subpixel fit and kOutOfRange.
-    const double span = static_cast<double>(count - 1) - 4.0;
-    std::int32_t best_lo = 0;
-    std::int32_t best_hi = 1;  // exclusive; n >= 1: the first sample alone is a group
-    std::int32_t hi = 0;
-    for (std::int32_t lo = 0; lo < n; ++lo) {
-        hi = hi > lo ? hi : lo;
-        for (; hi < n && d[hi] - d[lo] <= span; ++hi) {
-        }
-        if (hi - lo > best_hi - best_lo) {
-            best_lo = lo;
-            best_hi = hi;
-        }
-    }
-    const double centre = 0.5 * (d[best_lo] + d[best_hi - 1]);
-    std::int32_t start = static_cast<std::int32_t>(std::floor(centre - 0.5 * static_cast<double>(count - 1) + 0.5));
-    // Inside the bounds, when they are at least as wide as the window.
-    if (static_cast<std::int64_t>(bound_max) - bound_min + 1 >= count) {
-        start = start < bound_min ? bound_min : start;
-        start = start > bound_max - (count - 1) ? bound_max - (count - 1) : start;
-    }
-    window.d_min = start;
-    window.d_max = start + count - 1;
-    window.samples_inside = 0;
-    for (std::int32_t i = 0; i < n; ++i) {
-        window.samples_inside += (d[i] >= window.d_min && d[i] <= window.d_max) ? 1 : 0;
-    }
-    return Status::ok();
-}
-
-namespace {
 
 // Least squares over the samples whose |residual| in `residuals` (if given) is at most
 // `keep`; false when they lie on a line (or fewer than 3).
@@ -126,35 +77,39 @@ Status fitDisparityPlane(Span<const Vec3> samples, Span<double> scratch, Dispari
     for (std::int32_t i = 0; i < n; ++i) {
         const Vec3& s = samples[static_cast<std::size_t>(i)];
         if (!math::isFinite(s.x()) || !math::isFinite(s.y()) || !math::isFinite(s.z()) ||
-            std::fabs(s.x()) > kMaxWindowSamplePx || std::fabs(s.y()) > kMaxWindowSamplePx ||
-            std::fabs(s.z()) > kMaxWindowSamplePx) {
+            std::fabs(s.x()) > kMaxPlaneSamplePx || std::fabs(s.y()) > kMaxPlaneSamplePx ||
+            std::fabs(s.z()) > kMaxPlaneSamplePx) {
             return Status(StatusCode::kInvalidArgument, "fitDisparityPlane: samples: not finite or beyond 1e6 px", i);
         }
     }
-    DisparityPlane first;
-    if (!solvePlane(samples, nullptr, 0.0, first)) {
+    if (!solvePlane(samples, nullptr, 0.0, plane)) {
         return Status(StatusCode::kDegenerate, "fitDisparityPlane: the samples lie on a line");
     }
     double* r = scratch.data();
-    for (std::int32_t i = 0; i < n; ++i) {
-        const Vec3& s = samples[static_cast<std::size_t>(i)];
-        r[i] = s.z() - (first.a * s.x() + first.b * s.y() + first.c);
+    const auto residuals = [&samples, r, n](const DisparityPlane& q) {
+        for (std::int32_t i = 0; i < n; ++i) {
+            const Vec3& s = samples[static_cast<std::size_t>(i)];
+            r[i] = s.z() - (q.a * s.x() + q.b * s.y() + q.c);
+        }
+    };
+    double keep = 0.0;
+    std::int32_t used_before = -1;
+    for (std::int32_t refit = 0; refit < kPlaneRefits && plane.used != used_before; ++refit) {
+        residuals(plane);
+        const double spread = 3.0 * medianAbs(r, n);  // sorts r: the residuals again below
+        keep = spread > 2.0 ? spread : 2.0;
+        residuals(plane);
+        used_before = plane.used;
+        if (!solvePlane(samples, r, keep, plane)) {
+            return Status(StatusCode::kDegenerate, "fitDisparityPlane: the samples kept lie on a line");
+        }
     }
-    const double keep_first = 3.0 * medianAbs(r, n);
-    const double keep = keep_first > 2.0 ? keep_first : 2.0;
-    for (std::int32_t i = 0; i < n; ++i) {  // the residuals again (medianAbs sorted them)
-        const Vec3& s = samples[static_cast<std::size_t>(i)];
-        r[i] = s.z() - (first.a * s.x() + first.b * s.y() + first.c);
-    }
-    if (!solvePlane(samples, r, keep, plane)) {
-        return Status(StatusCode::kDegenerate, "fitDisparityPlane: the samples kept lie on a line");
-    }
+    // The median residual of the samples the last fit kept (as it chose them).
     std::int32_t m = 0;
     for (std::int32_t i = 0; i < n; ++i) {
         const Vec3& s = samples[static_cast<std::size_t>(i)];
-        const double e = s.z() - (plane.a * s.x() + plane.b * s.y() + plane.c);
         if (std::fabs(r[i]) <= keep) {
-            r[m] = e;
+            r[m] = s.z() - (plane.a * s.x() + plane.b * s.y() + plane.c);
             ++m;
         }
     }
