@@ -183,10 +183,6 @@ struct Decision {
     float sigma;
 };
 
-// The prior's largest magnitude whose disparities, in 1/16 px with the subpixel part, fit
-// int16 and never equal kNoDisparity (as setDisparityWindow's limit).
-constexpr std::int32_t kDisparityLimit = (32767 - 8) / kDisparityScale;  // 2047
-
 // The offsets pixel x searches around its centre (its prior, 0 without one): all, or with
 // clip_search_to_image those whose right column is inside the image. kValid, or why the
 // pixel is not searched (kNoPrior, kBorder, kOutOfRange beyond int16).
@@ -211,7 +207,7 @@ OffsetRange offsetRange(const Work& k, std::int32_t x, std::int32_t centre) {
     } else if (u - k.c.d_min < 0 || u - k.c.d_max > k.w - 1) {
         return {Reason::kBorder, 0, 0};
     }
-    if (centre + k.c.d_min < -kDisparityLimit || centre + k.c.d_max > kDisparityLimit) {
+    if (centre + k.c.d_min < -kMaxDisparityPx || centre + k.c.d_max > kMaxDisparityPx) {
         return {Reason::kOutOfRange, 0, 0};
     }
     return {Reason::kValid, jLo, jHi};

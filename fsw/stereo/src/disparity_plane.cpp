@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vtm/core/math.hpp"
+#include "vtm/stereo/ml_stereo.hpp"
 
 namespace vtm::stereo {
 namespace {
@@ -122,7 +123,7 @@ Status fillDisparityPlane(const DisparityPlane& plane, std::int32_t bound_min, s
     if (!out.valid()) {
         return Status(StatusCode::kInvalidArgument, "fillDisparityPlane: out is empty");
     }
-    if (bound_min > bound_max || bound_min < -2047 || bound_max > 2047) {
+    if (bound_min > bound_max || bound_min < -kMaxDisparityPx || bound_max > kMaxDisparityPx) {
         return Status(StatusCode::kInvalidArgument, "fillDisparityPlane: bounds must satisfy -2047 <= min <= max <= 2047",
                       bound_min);
     }

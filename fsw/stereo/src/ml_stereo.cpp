@@ -102,7 +102,7 @@ Status MlStereo::setDisparityWindow(std::int32_t d_min) noexcept {
         return Status(StatusCode::kNotInitialized, "MlStereo::setDisparityWindow: init() has not succeeded");
     }
     // d * 16 +- 8 (the subpixel offset) must fit int16 and never be kNoDisparity.
-    constexpr std::int32_t kLimit = (32767 - 8) / kDisparityScale;  // 2047
+    constexpr std::int32_t kLimit = kMaxDisparityPx;
     const std::int32_t span = config_.d_max - config_.d_min;  // count - 1, 0..1023
     if (d_min < -kLimit || d_min > kLimit || d_min + span > kLimit) {  // the sum only for |d_min| <= 2047
         return Status(StatusCode::kInvalidArgument,

@@ -126,10 +126,10 @@ Status PyramidStereo::init(const PyramidConfig& config, Arena& arena) noexcept {
     rightLevels_ = arena.allocateArray<std::uint8_t>(levelPixels(config));
     coarseDisparity_ = arena.allocateArray<std::int16_t>(static_cast<std::size_t>(cw) * static_cast<std::size_t>(ch));
     coarsePrior_ = arena.allocateArray<std::int16_t>(static_cast<std::size_t>(cw) * static_cast<std::size_t>(ch));
-    lineScratch_ = arena.allocateArray<std::int16_t>(static_cast<std::size_t>(coarseSize(config.max_width, config.levels)));
+    rowScratch_ = arena.allocateArray<std::int16_t>(static_cast<std::size_t>(coarseSize(config.max_width, config.levels)));
     prior_ = arena.allocateArray<std::int16_t>(full);
     if (leftLevels_.empty() || rightLevels_.empty() || coarseDisparity_.empty() || coarsePrior_.empty() ||
-        lineScratch_.empty() ||
+        rowScratch_.empty() ||
         prior_.empty()) {
         return out_of_memory;
     }
@@ -162,13 +162,12 @@ Status PyramidStereo::buildLevels(const ImageView<const std::uint8_t>& left,
 
 namespace {
 
-// Fills the holes of one line of n values `step` apart from `line` (a copy of the line as it
-// was is kept in `scratch`): each takes the smaller (farther) of the nearest valid values
-// within `reach` on either side. Returns the values filled.
-std::int32_t fillLine(std::int16_t* line, std::ptrdiff_t step, std::int32_t n, std::int32_t reach,
-                      std::int16_t* scratch) noexcept {
+// Fills the holes of one row of n values (a copy of the row as it was is kept in
+// `scratch`): each takes the smaller (farther) of the nearest valid values within `reach`
+// on either side. Returns the values filled.
+std::int32_t fillRow(std::int16_t* row, std::int32_t n, std::int32_t reach, std::int16_t* scratch) noexcept {
     for (std::int32_t i = 0; i < n; ++i) {
-        scratch[i] = line[i * step];
+        scratch[i] = row[i];
     }
     std::int32_t filled = 0;
     for (std::int32_t i = 0; i < n; ++i) {
@@ -186,7 +185,7 @@ std::int32_t fillLine(std::int16_t* line, std::ptrdiff_t step, std::int32_t n, s
             }
         }
         if (best != kNoDisparity) {
-            line[i * step] = best;
+            row[i] = best;
             ++filled;
         }
     }
@@ -195,7 +194,7 @@ std::int32_t fillLine(std::int16_t* line, std::ptrdiff_t step, std::int32_t n, s
 
 }  // namespace
 
-// Coarse holes are filled along the rows (fillLine: the farther of the nearest valid
+// Coarse holes are filled along the rows (fillRow: the farther of the nearest valid
 // values within fill_reach_px). Filling the columns too was measured: no gain.
 void PyramidStereo::fillCoarseHoles(const ImageView<std::int16_t>& coarse, PyramidStats& stats) noexcept {
     const std::int32_t reach = config_.fill_reach_px;
@@ -203,7 +202,7 @@ void PyramidStereo::fillCoarseHoles(const ImageView<std::int16_t>& coarse, Pyram
         return;
     }
     for (std::int32_t y = 0; y < coarse.height(); ++y) {
-        stats.coarse_filled += fillLine(coarse.row(y), 1, coarse.width(), reach, lineScratch_.data());
+        stats.coarse_filled += fillRow(coarse.row(y), coarse.width(), reach, rowScratch_.data());
     }
 }
 
@@ -293,7 +292,7 @@ Status PyramidStereo::searchCoarse(const ImageView<const std::int16_t>& surface,
     }
     VTM_RETURN_IF_ERROR(coarse_.setDisparityPrior(firsts));  // offsets 0..n-1 from `first`
     const Status status = coarse_.compute(coarseLeft_, coarseRight_, DisparityOutput{coarse, {}, {}}, &st.coarse);
-    (void)coarse_.setDisparityWindow(0);  // back to the plain search: the prior view is ours
+    coarse_.clearDisparityPrior();  // the view is coarsePrior_: not to be read by a later plain search
     return status;
 }
 

@@ -18,7 +18,7 @@
 //                feature; the baseline length stays the odometry's); camera 2's pose is
 //                replaced by the refined one
 //   rectify      Fusiello rectification of the refined pair and both remapped images
-//   stereo       coarse to fine (stereo::PyramidStereo): the coarse level (1/4 size)
+//   stereo       coarse to fine (stereo::PyramidStereo): the coarse level (half size)
 //                searches around the plane in disparity space through the refined
 //                inliers' rectified disparities (stereo::fitDisparityPlane; its window
 //                sheared along the plane), the full resolution searches around the
@@ -158,7 +158,7 @@ struct WideBaselineProducts {
     std::int32_t disparity_min = 0;     // the range searched, px (inclusive): the rectifier's
     std::int32_t disparity_max = 0;     // bounds for the range interval
     stereo::PyramidStats pyramid{};        // the coarse and the full-resolution search
-    stereo::StereoStats stereo{};          // of the full-resolution search (pyramid.fine)
+    stereo::StereoStats stereo{};          // pyramid.fine after the speckle filter
     stereo::DisparityPlane inlier_plane{};  // the coarse search's surface (its fit to the inliers)
     std::int32_t speckles = 0;             // disparities dropped by the speckle filter
     std::int32_t outside_window = 0;       // disparities dropped by the ground bound (relief_below_m)

@@ -31,8 +31,8 @@ struct DisparityPlane {
 // median absolute residual of all samples to the last fit).
 // `scratch` holds the residuals (at least samples.size() doubles).
 // kInvalidArgument naming the input: fewer than 3 samples, a sample not finite or beyond
-// kMaxPlaneSamplePx, scratch too small; kDegenerate when the samples (of either fit) lie
-// on a line.
+// kMaxPlaneSamplePx, scratch too small; kDegenerate when the samples (of any fit) lie on
+// a line.
 [[nodiscard]] Status fitDisparityPlane(Span<const Vec3> samples, Span<double> scratch, DisparityPlane& plane) noexcept;
 
 // The plane's disparity per pixel, rounded to whole px and clamped to [bound_min,

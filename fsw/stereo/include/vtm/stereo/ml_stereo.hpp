@@ -35,6 +35,9 @@ constexpr std::int32_t kDisparityShift = 4;
 constexpr std::int32_t kDisparityScale = 1 << kDisparityShift;
 // The value of a pixel without a disparity.
 constexpr std::int16_t kNoDisparity = INT16_MIN;
+// Largest |disparity| a search may reach, whole px: in 1/16 px with its subpixel part it
+// fits int16 and never equals kNoDisparity.
+constexpr std::int32_t kMaxDisparityPx = (32767 - 8) / kDisparityScale;  // 2047
 
 // Why a pixel has no disparity (kValid when it has one). Values are stable (telemetry).
 enum class Reason : std::uint8_t {

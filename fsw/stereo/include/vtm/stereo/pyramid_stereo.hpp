@@ -1,10 +1,11 @@
 // Coarse-to-fine ML stereo over a wide disparity range at a bounded cost.
 //
 // A wide-baseline pair spans thousands of disparities (a 5 m pair: -190..2190 px), far
-// more than one MlStereo window can search at full resolution. PyramidStereo searches the
-// whole range once at a coarse level of the pair (2x2 averaging, `levels` times), fills
-// small holes of the coarse disparity along its rows, and interpolates it (bilinear) into a
-// prior per full-resolution pixel; the full-resolution MlStereo then searches only the
+// more than one MlStereo window can search at full resolution. PyramidStereo searches at a
+// coarse level of the pair (2x2 averaging, `levels` times) either the whole range or a
+// window around a surface the caller gives (sheared along it), fills small holes of the
+// coarse disparity along its rows, and interpolates it (bilinear) into a prior per
+// full-resolution pixel; the full-resolution MlStereo then searches only the
 // prior +- fine_radius_px (MlStereo::setDisparityPrior: the window follows the prior's
 // surface). The cost is fixed by the Config, whatever the content: the coarse level's
 // (W H / 4^levels) x coarse_disparities plus W H x (2 fine_radius_px + 1) per
@@ -12,7 +13,7 @@
 //
 // Memory: workspaceBytes(config), carved from an Arena at init(); compute() never
 // allocates. Deterministic: integer arithmetic, bit-identical on every target.
-// docs/stereo.md ("Coarse to fine") has the steps and the measured effect.
+// docs/stereo.md ("Disparity prior and coarse to fine") has the steps and the measured effect.
 #pragma once
 
 #include <cstddef>
@@ -122,7 +123,7 @@ private:
     Span<std::uint8_t> rightLevels_{};
     Span<std::int16_t> coarseDisparity_{};
     Span<std::int16_t> coarsePrior_{};  // the surface at the coarse level, minus half the window
-    Span<std::int16_t> lineScratch_{};  // one coarse row (hole filling)
+    Span<std::int16_t> rowScratch_{};  // one coarse row (hole filling)
     Span<std::int16_t> prior_{};
     ImageView<std::uint8_t> coarseLeft_{};
     ImageView<std::uint8_t> coarseRight_{};
