@@ -10,6 +10,7 @@
 
 #include "no_heap_guard.hpp"
 #include "smooth_texture.hpp"
+#include "stereo_buffers.hpp"
 #include "vtm/core/assert.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
@@ -47,17 +48,7 @@ Pair randomPair(std::uint64_t seed, std::int32_t disparity) {
     return p;
 }
 
-struct Result {
-    std::vector<std::int16_t> disparity = std::vector<std::int16_t>(kW * kH);
-    std::vector<float> sigma = std::vector<float>(kW * kH);
-    std::vector<std::uint8_t> reason = std::vector<std::uint8_t>(kW * kH);
-    StereoStats stats{};
-};
-
-DisparityOutput outputOf(Result& r) {
-    return DisparityOutput{ImageView<std::int16_t>(r.disparity.data(), kW, kH),
-                           ImageView<float>(r.sigma.data(), kW, kH), ImageView<std::uint8_t>(r.reason.data(), kW, kH)};
-}
+using Result = StereoBuffers<kW, kH>;
 
 // The mapper's former search: shifted(u) = right(u - s), 0 outside; the Config's window;
 // s added to every disparity found.
@@ -74,7 +65,7 @@ Result shiftedCopySearch(MlStereo& stereo, const Pair& p, std::int32_t s) {
     EXPECT_TRUE(stereo.setDisparityWindow(stereo.config().d_min).isOk());
     EXPECT_TRUE(stereo
                     .compute(ImageView<const std::uint8_t>(p.left.data(), kW, kH),
-                             ImageView<const std::uint8_t>(shifted.data(), kW, kH), outputOf(r), &r.stats)
+                             ImageView<const std::uint8_t>(shifted.data(), kW, kH), r.out(), &r.stats)
                     .isOk());
     for (std::int16_t& d : r.disparity) {
         if (d != kNoDisparity) {
@@ -89,7 +80,7 @@ Result windowSearch(MlStereo& stereo, const Pair& p, std::int32_t window_min) {
     EXPECT_TRUE(stereo.setDisparityWindow(window_min).isOk());
     EXPECT_TRUE(stereo
                     .compute(ImageView<const std::uint8_t>(p.left.data(), kW, kH),
-                             ImageView<const std::uint8_t>(p.right.data(), kW, kH), outputOf(r), &r.stats)
+                             ImageView<const std::uint8_t>(p.right.data(), kW, kH), r.out(), &r.stats)
                     .isOk());
     return r;
 }

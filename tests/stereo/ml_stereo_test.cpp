@@ -9,6 +9,7 @@
 
 #include "no_heap_guard.hpp"
 #include "smooth_texture.hpp"
+#include "stereo_buffers.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
@@ -64,13 +65,7 @@ Pair makePair(const Texture& t, F trueD) {
     return p;
 }
 
-struct StereoRun {
-    std::vector<std::int16_t> disparity = std::vector<std::int16_t>(kW * kH);
-    std::vector<float> sigma = std::vector<float>(kW * kH);
-    std::vector<std::uint8_t> reason = std::vector<std::uint8_t>(kW * kH);
-    StereoStats stats{};
-    Status status{};
-};
+using StereoRun = StereoBuffers<kW, kH>;
 
 StereoRun runStereo(const Config& c, const Pair& p) {
     static std::byte pool[8U << 20U];
@@ -81,11 +76,8 @@ StereoRun runStereo(const Config& c, const Pair& p) {
     if (!r.status.isOk()) {
         return r;
     }
-    const DisparityOutput out{ImageView<std::int16_t>(r.disparity.data(), kW, kH),
-                              ImageView<float>(r.sigma.data(), kW, kH),
-                              ImageView<std::uint8_t>(r.reason.data(), kW, kH)};
     r.status = stereo.compute(ImageView<const std::uint8_t>(p.left.data(), kW, kH),
-                              ImageView<const std::uint8_t>(p.right.data(), kW, kH), out, &r.stats);
+                              ImageView<const std::uint8_t>(p.right.data(), kW, kH), r.out(), &r.stats);
     return r;
 }
 

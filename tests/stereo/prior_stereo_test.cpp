@@ -12,6 +12,7 @@
 
 #include "no_heap_guard.hpp"
 #include "smooth_texture.hpp"
+#include "stereo_buffers.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 #include "vtm/stereo/pyramid_stereo.hpp"
@@ -83,17 +84,7 @@ Pair makePair(std::uint64_t seed) {
     return p;
 }
 
-struct StereoRun {
-    std::vector<std::int16_t> disparity = std::vector<std::int16_t>(kW * kH);
-    std::vector<float> sigma = std::vector<float>(kW * kH);
-    std::vector<std::uint8_t> reason = std::vector<std::uint8_t>(kW * kH);
-    StereoStats stats{};
-    Status status{};
-    DisparityOutput out() {
-        return DisparityOutput{ImageView<std::int16_t>(disparity.data(), kW, kH), ImageView<float>(sigma.data(), kW, kH),
-                               ImageView<std::uint8_t>(reason.data(), kW, kH)};
-    }
-};
+using StereoRun = StereoBuffers<kW, kH>;
 
 ImageView<const std::uint8_t> view(const std::vector<std::uint8_t>& v) {
     return ImageView<const std::uint8_t>(v.data(), kW, kH);

@@ -125,6 +125,57 @@ GreyImage copy8(const ImageView<const std::uint8_t>& v) {
     return out;
 }
 
+// The band's coverage (Measured::band_*, ranged_*, coverage) from image 1's true range and
+// site points and image 2's true range. Seen by camera 2: the point projects into image 2
+// and image 2's true range there is the point's (within 1 %: not hidden behind other terrain).
+void measureBand(const app::WideBaselineProducts& p, const sim::ScenarioFrame& f1, const sim::ScenarioFrame& f2,
+                 const FloatImage& range, const std::vector<float>& truth, const std::vector<float>& point1,
+                 const std::vector<float>& truth2, Measured& m) {
+    const std::int32_t W = range.width, H = range.height;
+    const auto seenBy2 = [&](std::size_t i) {
+        const Vec3 site(point1[3 * i], point1[3 * i + 1], point1[3 * i + 2]);
+        const Vec3 X2 = f2.camera_pose.R.transpose() * (site - f2.camera_pose.t_m);
+        Vec2 px;
+        if (!projectPoint(f2.model, X2, px).isOk()) return false;
+        const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
+        const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
+        if (ix < 0 || iy < 0 || ix >= W || iy >= H) return false;
+        const double r2 = truth2[static_cast<std::size_t>(iy) * static_cast<std::size_t>(W) + static_cast<std::size_t>(ix)];
+        return std::isfinite(r2) && std::fabs(r2 - X2.norm()) <= 0.01 * X2.norm();
+    };
+    m.band_min_m = std::max(10.0, 2.5 * (f2.camera_pose.t_m - f1.camera_pose.t_m).norm());
+    std::vector<double> band_rel;
+    m.coverage = GreyImage(W, H, 3);
+    for (std::int32_t y = 0; y < H; ++y) {
+        for (std::int32_t x = 0; x < W; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x);
+            const float r = range.at(x, y);
+            const float t = truth[i];
+            const bool seen = std::isfinite(t) && seenBy2(i);
+            if (std::isfinite(r) && !std::isfinite(t)) ++m.ranged_on_sky;
+            if (std::isfinite(r) && std::isfinite(t) && !seen) ++m.ranged_unseen;
+            const std::uint8_t grey = static_cast<std::uint8_t>(p.image1.row(y)[x] / 2);
+            std::uint8_t rgb[3] = {grey, grey, grey};
+            if (seen && t >= m.band_min_m && t <= m.band_max_m) {
+                ++m.band_pixels;
+                rgb[0] = rgb[1] = 0;
+                rgb[2] = 255;
+                if (std::isfinite(r)) {
+                    const double e = std::fabs(static_cast<double>(r - t)) / t;
+                    ++m.band_ranged;
+                    m.band_good += e <= 0.05 ? 1 : 0;
+                    band_rel.push_back(e);
+                    rgb[0] = e <= 0.05 ? 0 : 255;
+                    rgb[1] = e <= 0.05 ? 255 : 0;
+                    rgb[2] = 0;
+                }
+            }
+            for (std::int32_t c = 0; c < 3; ++c) m.coverage.at(x, y, c) = rgb[c];
+        }
+    }
+    m.band_median = median(band_rel);
+}
+
 Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, const FloatImage& range) {
     Measured m;
     const sim::ScenarioFrame* f1 = frameAt(w, p.frame1.timestamp_ns);
@@ -157,54 +208,17 @@ Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, 
     o.truth = sim::FrameTruth{};
     o.truth.range_m = ImageView<float>(truth2.data(), W, H);
     if (!sim::renderFrame(sim::scenarioFrameRequest(w.scenario, w.terrain, *f2), o, nullptr).isOk()) return m;
-    // Seen by camera 2: projects into image 2 and image 2's true range there is the point's
-    // (within 1 %: not hidden behind other terrain).
-    const auto seenBy2 = [&](std::size_t i) {
-        const Vec3 site(point1[3 * i], point1[3 * i + 1], point1[3 * i + 2]);
-        const Vec3 X2 = f2->camera_pose.R.transpose() * (site - f2->camera_pose.t_m);
-        Vec2 px;
-        if (!projectPoint(f2->model, X2, px).isOk()) return false;
-        const auto ix = static_cast<std::int32_t>(std::floor(px.x() + 0.5));
-        const auto iy = static_cast<std::int32_t>(std::floor(px.y() + 0.5));
-        if (ix < 0 || iy < 0 || ix >= W || iy >= H) return false;
-        const double r2 = truth2[static_cast<std::size_t>(iy) * static_cast<std::size_t>(W) + static_cast<std::size_t>(ix)];
-        return std::isfinite(r2) && std::fabs(r2 - X2.norm()) <= 0.01 * X2.norm();
-    };
-    const double b_true = (f2->camera_pose.t_m - f1->camera_pose.t_m).norm();
-    m.band_min_m = std::max(10.0, 2.5 * b_true);
-    std::vector<double> rel, reach, band_rel;
-    m.coverage = GreyImage(W, H, 3);
+    measureBand(p, *f1, *f2, range, truth, point1, truth2, m);
+    std::vector<double> rel, reach;
     for (std::int32_t y = 0; y < H; ++y) {
         for (std::int32_t x = 0; x < W; ++x) {
-            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x);
             const float r = range.at(x, y);
-            const float t = truth[i];
-            const bool seen = std::isfinite(t) && seenBy2(i);
-            if (std::isfinite(r) && !std::isfinite(t)) ++m.ranged_on_sky;
-            if (std::isfinite(r) && std::isfinite(t) && !seen) ++m.ranged_unseen;
-            const std::uint8_t grey = static_cast<std::uint8_t>(p.image1.row(y)[x] / 2);
-            std::uint8_t rgb[3] = {grey, grey, grey};
-            if (seen && t >= m.band_min_m && t <= m.band_max_m) {
-                ++m.band_pixels;
-                rgb[0] = rgb[1] = 0;
-                rgb[2] = 255;
-                if (std::isfinite(r)) {
-                    const double e = std::fabs(static_cast<double>(r - t)) / t;
-                    ++m.band_ranged;
-                    m.band_good += e <= 0.05 ? 1 : 0;
-                    band_rel.push_back(e);
-                    rgb[0] = e <= 0.05 ? 0 : 255;
-                    rgb[1] = e <= 0.05 ? 255 : 0;
-                    rgb[2] = 0;
-                }
-            }
-            for (std::int32_t c = 0; c < 3; ++c) m.coverage.at(x, y, c) = rgb[c];
+            const float t = truth[static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x)];
             if (!std::isfinite(r) || !std::isfinite(t)) continue;
             rel.push_back(std::fabs(static_cast<double>(r - t)) / t);
             reach.push_back(t);
         }
     }
-    m.band_median = median(band_rel);
     m.range_pixels = static_cast<long long>(rel.size());
     m.range_median = median(rel);
     m.range_true_median_m = median(reach);
@@ -354,7 +368,8 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| time of the request | %.2f s |\n\n",
                   p->refine.matching.matched, p->refine.motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
                   m.dir_after_deg, p->refine.motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
-                  p->pyramid.coarse.valid_pixels, (config.frame_width >> config.stereo.levels) * (config.frame_height >> config.stereo.levels),
+                  p->pyramid.coarse.valid_pixels,
+                  (p->disparity_px16.width() >> config.stereo.levels) * (p->disparity_px16.height() >> config.stereo.levels),
                   p->pyramid.coarse_filled, p->stereo.valid_pixels + p->speckles, p->speckles, p->outside_window, p->triangulation.points,
                   m.range_pixels, 100.0 * static_cast<double>(m.range_pixels) / (range.width * range.height),
                   m.range_true_median_m, 100.0 * m.range_median, 100.0 * m.range_within5, m.band_min_m, m.band_max_m,
