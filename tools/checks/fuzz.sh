@@ -3,6 +3,8 @@
 #   fuzz_link_decoder   the HIL link decoder and session (hal/link)
 #   fuzz_file_readers   hal/file: PGM and PNG decoders, frame manifest, pose log
 #   fuzz_camera_model   vtm::parseCameraModel (fsw/core)
+#   fuzz_scenario       sim::parseScenario (.scn files; seeds: sim/scenarios/*.scn)
+#   fuzz_pose_files     tools/ground's vtm-camera-poses / vtm-poses readers and pose specs
 # Configures build/fuzz from tests/fuzz/CMakeLists.txt, writes a seed corpus per target
 # (valid inputs; Python's zlib.crc32 computes the link CRCs independently of our code),
 # runs each target for FUZZ_SECONDS (default 30; FUZZ_JOBS of them at once, default the
@@ -19,10 +21,12 @@ build=${FUZZ_BUILD_DIR:-$root/build/fuzz}
 work=$build/runs
 
 cmake -S "$root/tests/fuzz" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ >/dev/null
-cmake --build "$build" --target fuzz_link_decoder fuzz_file_readers fuzz_camera_model >/dev/null
+cmake --build "$build" --target fuzz_link_decoder fuzz_file_readers fuzz_camera_model fuzz_scenario \
+    fuzz_pose_files >/dev/null
 
 rm -rf "$work"
-mkdir -p "$work"/{link,file,cmod}/{corpus,artifacts}
+mkdir -p "$work"/{link,file,cmod,scn,poses}/{corpus,artifacts}
+cp "$root"/sim/scenarios/*.scn "$work/scn/corpus/"
 python3 - "$work" <<'PY'
 import struct, sys, zlib
 work = sys.argv[1]
@@ -80,6 +84,13 @@ write(f"{work}/cmod/corpus/cahv", b"vtm_camera_model 1\nkind cahv\nwidth_px 4\nh
       b"C 0 0 0\nA 0 0 1\nH 100 0 1.5\nV 0 100 1\n")
 write(f"{work}/cmod/corpus/cahvor", b"vtm_camera_model 1\nkind cahvor\nwidth_px 64\nheight_px 48\n"
       b"C 0.1 0 0\nA 0 0 1\nH 100 0 31.5\nV 0 100 23.5\nO 0 0.01 0.99995\nR 0 -0.1 0.01\n")
+# pose files: selector byte 0 camera poses, 1 pose log, 2 spec FILE:INDEX (INDEX = byte 2), 3 spec FILE.
+cams = (b"vtm-camera-poses 1\n# frame camera t x y z qw qx qy qz\n0 mast 1000 0 0 -1.9 1 0 0 0\n"
+        b"1 mast 2000 5 0.5 -1.9 0.9961946980917455 0 0 0.08715574274765817\n")
+write(f"{work}/poses/corpus/camera_poses", b"\x00\x00" + cams)
+write(f"{work}/poses/corpus/pose_log", b"\x01\x00vtm-poses 1\n1000 0 0 0 1 0 0 0 1e-4 1e-4 1e-4 1e-6 1e-6 1e-6\n")
+write(f"{work}/poses/corpus/spec_index", b"\x02\x01" + cams)
+write(f"{work}/poses/corpus/spec_one", b"\x03\x00vtm-camera-poses 1\n0 mast 1000 0 0 -1.9 1 0 0 0\n")
 PY
 
 # Each target runs on a core of its own: up to FUZZ_JOBS (default: the number of cores)
@@ -108,7 +119,8 @@ run() {  # name dir: runs one target, writes its report line(s) to dir/report.tx
   } > "$dir/report.txt"
   echo "$failed" > "$dir/status"
 }
-targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod)
+targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod fuzz_scenario:scn
+         fuzz_pose_files:poses)
 for t in "${targets[@]}"; do
   while [[ $(jobs -rp | wc -l) -ge $jobs ]]; do wait -n || true; done
   run "${t%%:*}" "${t##*:}" &
