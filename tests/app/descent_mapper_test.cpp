@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "fault_matrix.hpp"
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/sim_odometry.hpp"
 #include "no_heap_guard.hpp"
@@ -437,6 +438,103 @@ TEST_F(DescentMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     DescentMapper fresh;
     EXPECT_EQ(fresh.map().code(), StatusCode::kNotInitialized);
 }
+
+#if !defined(VTM_TEST_UNDER_EMULATOR)
+// The fault matrix (tests/app/fault_matrix.hpp, docs/app.md "Faults") on the descent's
+// first request (frames 0 and 1): each fault on frame 1 or the odometry from its time. A
+// refusal must name its stage and publish nothing; a damaged depth map is held against
+// the clean request of the same run and the truth. Host only, as the rover's matrix.
+const DepthError& cleanDepthError() {
+    static const DepthError clean = [] {
+        DepthError e;
+        hal::SimCamera camera;
+        hal::SimOdometry odometry;
+        hal::ManualClock clock;
+        hal::EventLog events;
+        hal::SimCamera::Config cc;
+        cc.scenario = &world().scenario;
+        cc.terrain = &world().terrain;
+        cc.frames = &world().frames;
+        const DescentMapperConfig c = smallConfig();
+        std::vector<std::byte> pool(DescentMapper::workspaceBytes(c));
+        Arena arena(pool.data(), pool.size());
+        auto mapper = std::make_unique<DescentMapper>();
+        if (camera.init(cc).isOk() && odometry.init({&world().frames, nullptr}).isOk() &&
+            mapper->init(c, arena, camera, odometry, clock, events).isOk() && mapper->map().isOk()) {
+            e = depthError(*mapper->products());
+        }
+        return e;
+    }();
+    return clean;
+}
+
+// A jump of 5 % of the first pair's baseline along the descent (the baseline's length is
+// what the depth scale follows).
+hal::Fault aimAtFrame1(const faults::FaultCell& cell) {
+    const sim::ScenarioFrame& f0 = world().frames.frames[0];
+    const sim::ScenarioFrame& f1 = world().frames.frames[1];
+    double jump[3];
+    for (int i = 0; i < 3; ++i) {
+        jump[i] = 0.05 * (f1.true_pose.position_m[i] - f0.true_pose.position_m[i]);
+    }
+    return faults::aim(cell, f1.camera_id, 1U, f1.timestamp_ns, jump);
+}
+
+class DescentFaultMatrix : public DescentMapperTest, public ::testing::WithParamInterface<faults::FaultCell> {};
+
+TEST_P(DescentFaultMatrix, ARefusalIsNamedAndADamagedMapStaysBounded) {
+    const faults::FaultCell& cell = GetParam();
+    const faults::Expect expect = cell.expect;
+    const DescentMapperConfig c = smallConfig();
+    ASSERT_TRUE(plan_.add(aimAtFrame1(cell)).isOk());
+    ASSERT_TRUE(start(c, DescentMapper::workspaceBytes(c)).isOk());
+    Status st;
+    std::uint64_t heap = 0U;
+    {
+        test::NoHeapScope guard;
+        st = mapper_->map();
+        heap = guard.heapCalls();
+    }
+    EXPECT_EQ(heap, 0U) << "map() used the heap";
+    const StageRecord* failed = mapper_->stages().failed();
+    std::printf("[ fault %s ] %s%s%s (%lld)\n", cell.name.c_str(), failed != nullptr ? stageName(failed->stage) : "mapped",
+                st.isOk() ? "" : ": ", st.isOk() ? "" : st.reason(), static_cast<long long>(st.detail()));
+    if (expect == faults::Expect::kRefused) {
+        EXPECT_FALSE(st.isOk());
+        EXPECT_STRNE(st.reason(), "");
+        if (cell.code != StatusCode::kOk) {
+            EXPECT_EQ(st.code(), cell.code) << st.reason();
+        }
+        ASSERT_NE(failed, nullptr);
+        if (cell.stage != Stage::kNone) {
+            EXPECT_EQ(failed->stage, cell.stage) << stageName(failed->stage);
+        }
+        EXPECT_EQ(mapper_->products(), nullptr);
+        EXPECT_EQ(events_.at(events_.size() - 1U).severity, hal::Severity::kError);
+        return;
+    }
+    ASSERT_TRUE(st.isOk()) << (failed != nullptr ? stageName(failed->stage) : "") << ": " << st.reason();
+    ASSERT_NE(mapper_->products(), nullptr);
+    const DepthError& clean = cleanDepthError();
+    ASSERT_GT(clean.count, 0U) << "the clean request of this run did not map";
+    const DepthError e = depthError(*mapper_->products());
+    std::printf("[ fault %s ] depth error median %.2f %% (clean %.2f %%), p90 %.2f %% (clean %.2f %%), %zu px (clean %zu)\n",
+                cell.name.c_str(), 100.0 * e.median, 100.0 * clean.median, 100.0 * e.p90, 100.0 * clean.p90, e.count,
+                clean.count);
+    if (expect == faults::Expect::kMiss) {
+        return;
+    }
+    // The damage bound: the descent tests' own gate (median within 1.5 %, RefinementRemoves...)
+    // and at most a tenth of the depths lost; a jump may add the scale error it makes (5 %).
+    const double scale = cell.fault.kind == hal::FaultKind::kOdometryJump ? 0.05 : 0.0;
+    EXPECT_LT(e.median, 0.015 + scale);
+    EXPECT_LE(e.median, clean.median + scale + 0.005);
+    EXPECT_GE(e.count, clean.count * 9U / 10U);
+}
+
+INSTANTIATE_TEST_SUITE_P(Faults, DescentFaultMatrix, ::testing::ValuesIn(faults::faultCells(kSize)),
+                         [](const ::testing::TestParamInfo<faults::FaultCell>& i) { return i.param.name; });
+#endif
 
 }  // namespace
 }  // namespace vtm::app
