@@ -356,6 +356,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| translation direction error: odometry -> refined | %.3f -> %.3f deg |\n"
                   "| vertical disparity the refiner predicts after rectification | %.3f px |\n"
                   "| baseline length error (odometry, kept) | %+.2f %% |\n"
+                  "| exposure gain applied to rectified 2 (1: the pair's medians agreed) | %.3f |\n"
                   "| disparity range searched | %d..%d px (coarse level: %d of %d pixels found, %d filled) |\n"
                   "| disparities found / dropped as speckles / dropped by the ground bound | %d / %d / %d |\n"
                   "| points triangulated | %d |\n"
@@ -367,7 +368,8 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| height map: cells / median abs error / mean error | %lld / %.3f m / %+.3f m |\n"
                   "| time of the request | %.2f s |\n\n",
                   p->refine.matching.matched, p->refine.motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
-                  m.dir_after_deg, p->refine.motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error, p->disparity_min, p->disparity_max,
+                  m.dir_after_deg, p->refine.motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error,
+                  static_cast<double>(p->exposure_gain_q16) / 65536.0, p->disparity_min, p->disparity_max,
                   p->pyramid.coarse.valid_pixels,
                   (p->disparity_px16.width() >> config.stereo.levels) * (p->disparity_px16.height() >> config.stereo.levels),
                   p->pyramid.coarse_filled, p->stereo.valid_pixels + p->speckles, p->speckles, p->outside_window, p->triangulation.points,

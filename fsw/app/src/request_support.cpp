@@ -19,6 +19,57 @@ void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth,
     }
 }
 
+namespace {
+
+constexpr std::uint32_t kUnitGainQ16 = 65536U;
+
+// Median grey level of the pixels above 0, or 0 when there is none.
+std::uint32_t medianWithContent(const ImageView<const std::uint8_t>& image) noexcept {
+    std::uint32_t histogram[256] = {};
+    for (std::int32_t y = 0; y < image.height(); ++y) {
+        const std::uint8_t* row = image.row(y);
+        for (std::int32_t x = 0; x < image.width(); ++x) {
+            ++histogram[row[x]];
+        }
+    }
+    std::uint64_t count = 0U;
+    for (std::uint32_t v = 1U; v < 256U; ++v) {
+        count += histogram[v];
+    }
+    std::uint64_t seen = 0U;
+    for (std::uint32_t v = 1U; v < 256U; ++v) {
+        seen += histogram[v];
+        if (2U * seen >= count && count > 0U) {
+            return v;
+        }
+    }
+    return 0U;
+}
+
+}  // namespace
+
+std::uint32_t equalizeExposure(const ImageView<const std::uint8_t>& reference, const ImageView<std::uint8_t>& image,
+                               std::int32_t tolerance_percent) noexcept {
+    const std::uint32_t m_ref = medianWithContent(reference);
+    const std::uint32_t m_img = medianWithContent(ImageView<const std::uint8_t>(image));
+    if (m_ref == 0U || m_img == 0U) {
+        return kUnitGainQ16;
+    }
+    const std::uint32_t gain = (m_ref * kUnitGainQ16 + m_img / 2U) / m_img;  // <= 255 * 65536 + 127: fits
+    const std::uint32_t off = gain > kUnitGainQ16 ? gain - kUnitGainQ16 : kUnitGainQ16 - gain;
+    if (static_cast<std::uint64_t>(off) * 100U <= static_cast<std::uint64_t>(tolerance_percent) * kUnitGainQ16) {
+        return kUnitGainQ16;
+    }
+    for (std::int32_t y = 0; y < image.height(); ++y) {
+        std::uint8_t* row = image.row(y);
+        for (std::int32_t x = 0; x < image.width(); ++x) {
+            const std::uint64_t v = (static_cast<std::uint64_t>(row[x]) * gain + kUnitGainQ16 / 2U) >> 16U;
+            row[x] = static_cast<std::uint8_t>(v > 255U ? 255U : v);
+        }
+    }
+    return gain;
+}
+
 std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept {
     const double trace = pose.covariance[0] + pose.covariance[7] + pose.covariance[14];
     return static_cast<std::int64_t>(std::floor(1000.0 * math::sqrt(trace > 0.0 ? trace : 0.0) + 0.5));

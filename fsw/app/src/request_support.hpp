@@ -26,6 +26,17 @@ ImageView<T> carve(Arena& arena, std::int32_t width, std::int32_t height) noexce
 void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth,
              const ImageView<std::uint8_t>& out) noexcept;
 
+// Exposure equalisation of a pair whose stereo compares grey levels (WideBaselineMapper):
+// the median grey level of each image's pixels with content (grey level 0 is the
+// rectified images' "no content" and is left out) gives the gain median(reference) /
+// median(image), in 1/65536. When it differs from 1 by more than tolerance_percent, every
+// pixel of `image` is multiplied by it (rounded, clipped to 255) and the gain is
+// returned; otherwise `image` is left alone and 65536 is returned, as it is when either
+// image has no content. Integer arithmetic: the same bits on every target.
+[[nodiscard]] std::uint32_t equalizeExposure(const ImageView<const std::uint8_t>& reference,
+                                             const ImageView<std::uint8_t>& image,
+                                             std::int32_t tolerance_percent) noexcept;
+
 // Position sigma (mm) of a pose: sqrt of the trace of its position covariance.
 [[nodiscard]] std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept;
 

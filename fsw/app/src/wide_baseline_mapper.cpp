@@ -105,6 +105,9 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     if (!detail::inRange(min_baseline_m, 0.01, 100.0)) {
         return invalid("min_baseline_m: must be 0.01..100");
     }
+    if (exposure_tolerance_percent < 1 || exposure_tolerance_percent > 100) {
+        return invalid("exposure_tolerance_percent: must be 1..100");
+    }
     VTM_RETURN_IF_ERROR(speckleConfigOf(*this).validate());
     return Status::ok();
 }
@@ -306,6 +309,7 @@ Status WideBaselineMapper::runStereo() noexcept {
     p.disparity_min = p.rectified.d_min;
     p.disparity_max = p.rectified.d_max;
     const double ground_z = pose1_.position_m[2];  // site z is down; the vehicle's origin is on the ground
+    p.exposure_gain_q16 = detail::equalizeExposure(rect1_, rect2_, config_.exposure_tolerance_percent);
     Status st = searchSurface();
     const stereo::DisparityOutput out{disparity_, sigma_, {}};
     if (st.isOk()) {

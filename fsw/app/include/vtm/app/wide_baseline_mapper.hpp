@@ -92,6 +92,12 @@ struct WideBaselineMapperConfig {
     double range_min_m = 3.0;
     double range_max_m = 300.0;  // the far end of the band the map is for (issue 21)
     double min_baseline_m = 0.2;  // shorter drives are refused (kDegenerate), 0.01..100
+    // The ML stereo compares grey levels, so frames taken with other exposures (an auto
+    // exposure, a gain fault) would not match: when the median grey levels of the
+    // rectified pair differ by more than this, percent, 1..100, rectified 2 is scaled to
+    // rectified 1's (docs/app.md "Faults": a gain of 2 on frame 2 gave a 10 % median range
+    // error before).
+    std::int32_t exposure_tolerance_percent = 15;
     // How far the terrain may lie below the ground the rover stands on (craters, down
     // slopes), metres, 0..1000: along a ray that points down the terrain is hit no farther
     // than this plane, which bounds the ray's disparity; a disparity found in the window
@@ -136,7 +142,7 @@ struct WideBaselineProducts {
     ImageView<const std::uint8_t> image1;       // the captured frames (8-bit)
     ImageView<const std::uint8_t> image2;
     ImageView<const std::uint8_t> rectified1;   // the rectified pair (8-bit)
-    ImageView<const std::uint8_t> rectified2;
+    ImageView<const std::uint8_t> rectified2;  // after the exposure equalisation (exposure_gain_q16)
     ImageView<const std::int16_t> disparity_px16;  // rectified 1's size, 1/16 px, d = x1 - x2; kNoDisparity
     ImageView<const float> sigma_px;               // 1-sigma of each disparity, px
     ImageView<const std::int16_t> surface_px;      // the inlier plane's disparity, whole px (the coarse search's centre)
@@ -157,6 +163,9 @@ struct WideBaselineProducts {
     refine::Result refine{};
     std::int32_t disparity_min = 0;     // the range searched, px (inclusive): the rectifier's
     std::int32_t disparity_max = 0;     // bounds for the range interval
+    // The gain the stereo stage applied to rectified 2 (1/65536; 65536: none, the medians of
+    // the pair agreed within exposure_tolerance_percent).
+    std::uint32_t exposure_gain_q16 = 65536U;
     stereo::PyramidStats pyramid{};        // the coarse and the full-resolution search
     stereo::StereoStats stereo{};          // pyramid.fine after the speckle filter
     stereo::DisparityPlane inlier_plane{};  // the coarse search's surface (its fit to the inliers)
