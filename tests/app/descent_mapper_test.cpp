@@ -446,38 +446,11 @@ TEST_F(DescentMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
 // the clean request of the same run and the truth. Host only, as the rover's matrix.
 const DepthError& cleanDepthError() {
     static const DepthError clean = [] {
-        DepthError e;
-        hal::SimCamera camera;
-        hal::SimOdometry odometry;
-        hal::ManualClock clock;
-        hal::EventLog events;
-        hal::SimCamera::Config cc;
-        cc.scenario = &world().scenario;
-        cc.terrain = &world().terrain;
-        cc.frames = &world().frames;
-        const DescentMapperConfig c = smallConfig();
-        std::vector<std::byte> pool(DescentMapper::workspaceBytes(c));
-        Arena arena(pool.data(), pool.size());
-        auto mapper = std::make_unique<DescentMapper>();
-        if (camera.init(cc).isOk() && odometry.init({&world().frames, nullptr}).isOk() &&
-            mapper->init(c, arena, camera, odometry, clock, events).isOk() && mapper->map().isOk()) {
-            e = depthError(*mapper->products());
-        }
-        return e;
+        static faults::CleanRequest<DescentMapper> request;
+        const DescentProducts* p = request.fly(smallConfig(), world());
+        return p != nullptr ? depthError(*p) : DepthError{};
     }();
     return clean;
-}
-
-// A jump of 5 % of the first pair's baseline along the descent (the baseline's length is
-// what the depth scale follows).
-hal::Fault aimAtFrame1(const faults::FaultCell& cell) {
-    const sim::ScenarioFrame& f0 = world().frames.frames[0];
-    const sim::ScenarioFrame& f1 = world().frames.frames[1];
-    double jump[3];
-    for (int i = 0; i < 3; ++i) {
-        jump[i] = 0.05 * (f1.true_pose.position_m[i] - f0.true_pose.position_m[i]);
-    }
-    return faults::aim(cell, f1.camera_id, 1U, f1.timestamp_ns, jump);
 }
 
 class DescentFaultMatrix : public DescentMapperTest, public ::testing::WithParamInterface<faults::FaultCell> {};
@@ -486,31 +459,13 @@ TEST_P(DescentFaultMatrix, ARefusalIsNamedAndADamagedMapStaysBounded) {
     const faults::FaultCell& cell = GetParam();
     const faults::Expect expect = cell.expect;
     const DescentMapperConfig c = smallConfig();
-    ASSERT_TRUE(plan_.add(aimAtFrame1(cell)).isOk());
+    ASSERT_TRUE(plan_.add(faults::aimAtSecondFrame(cell, world().frames)).isOk());
     ASSERT_TRUE(start(c, DescentMapper::workspaceBytes(c)).isOk());
-    Status st;
-    std::uint64_t heap = 0U;
-    {
-        test::NoHeapScope guard;
-        st = mapper_->map();
-        heap = guard.heapCalls();
-    }
-    EXPECT_EQ(heap, 0U) << "map() used the heap";
+    const Status st = faults::mapWithoutHeap(*mapper_);
     const StageRecord* failed = mapper_->stages().failed();
-    std::printf("[ fault %s ] %s%s%s (%lld)\n", cell.name.c_str(), failed != nullptr ? stageName(failed->stage) : "mapped",
-                st.isOk() ? "" : ": ", st.isOk() ? "" : st.reason(), static_cast<long long>(st.detail()));
+    faults::printOutcome(cell, st, failed);
     if (expect == faults::Expect::kRefused) {
-        EXPECT_FALSE(st.isOk());
-        EXPECT_STRNE(st.reason(), "");
-        if (cell.code != StatusCode::kOk) {
-            EXPECT_EQ(st.code(), cell.code) << st.reason();
-        }
-        ASSERT_NE(failed, nullptr);
-        if (cell.stage != Stage::kNone) {
-            EXPECT_EQ(failed->stage, cell.stage) << stageName(failed->stage);
-        }
-        EXPECT_EQ(mapper_->products(), nullptr);
-        EXPECT_EQ(events_.at(events_.size() - 1U).severity, hal::Severity::kError);
+        faults::expectRefused(cell, st, failed, mapper_->products() != nullptr, events_);
         return;
     }
     ASSERT_TRUE(st.isOk()) << (failed != nullptr ? stageName(failed->stage) : "") << ": " << st.reason();

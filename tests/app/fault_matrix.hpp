@@ -6,11 +6,22 @@
 // or odometry delivers as kOk).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
+#include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "hal/clock.hpp"
+#include "hal/event_log.hpp"
 #include "hal/sim/fault_plan.hpp"
+#include "no_heap_guard.hpp"
+#include "hal/sim/sim_camera.hpp"
+#include "hal/sim/sim_odometry.hpp"
+#include "sim/scenario.hpp"
+#include "vtm/core/arena.hpp"
 #include "vtm/app/stage_log.hpp"
 #include "vtm/core/status.hpp"
 
@@ -88,6 +99,85 @@ inline hal::Fault aim(const FaultCell& cell, std::uint8_t camera_id, std::uint32
         f.offset_m[i] = jump_m[i];
     }
     return f;
+}
+
+// Aims a cell at a request of frames 0 and 1 of a scenario: frame 1 (its camera,
+// sequence 1) and the odometry from its time; a jump of 5 % of the vehicle's displacement
+// between the two frames, along it: the baseline length, which the images cannot observe,
+// is what such a jump spoils (every range or depth scales with it).
+inline hal::Fault aimAtSecondFrame(const FaultCell& cell, const sim::ScenarioFrames& frames) {
+    const sim::ScenarioFrame& f0 = frames.frames[0];
+    const sim::ScenarioFrame& f1 = frames.frames[1];
+    double jump[3];
+    for (int i = 0; i < 3; ++i) {
+        jump[i] = 0.05 * (f1.true_pose.position_m[i] - f0.true_pose.position_m[i]);
+    }
+    return aim(cell, f1.camera_id, 1U, f1.timestamp_ns, jump);
+}
+
+// The clean request a damaged map is held against: `Mapper` (WideBaselineMapper,
+// DescentMapper) flies one request of the world (its scenario, terrain and frames) on the
+// simulated drivers without faults; its products stay valid as long as this object.
+template <typename Mapper>
+struct CleanRequest {
+    hal::SimCamera camera;
+    hal::SimOdometry odometry;
+    hal::ManualClock clock;
+    hal::EventLog events;
+    std::vector<std::byte> pool;
+    std::unique_ptr<Arena> arena;
+    std::unique_ptr<Mapper> mapper = std::make_unique<Mapper>();
+
+    template <typename Config, typename World>
+    const auto* fly(const Config& config, const World& world) {
+        hal::SimCamera::Config cc;
+        cc.scenario = &world.scenario;
+        cc.terrain = &world.terrain;
+        cc.frames = &world.frames;
+        pool.assign(Mapper::workspaceBytes(config), std::byte{0});
+        arena = std::make_unique<Arena>(pool.data(), pool.size());
+        const bool ok = camera.init(cc).isOk() && odometry.init({&world.frames, nullptr}).isOk() &&
+                        mapper->init(config, *arena, camera, odometry, clock, events).isOk() && mapper->map().isOk();
+        return ok ? mapper->products() : nullptr;
+    }
+};
+
+// One request of an executive (map()), failing the test if it touched the heap.
+template <typename Mapper>
+Status mapWithoutHeap(Mapper& mapper) {
+    Status st;
+    std::uint64_t heap = 0U;
+    {
+        vtm::test::NoHeapScope guard;
+        st = mapper.map();
+        heap = guard.heapCalls();
+    }
+    EXPECT_EQ(heap, 0U) << "map() used the heap";
+    return st;
+}
+
+// One line per cell: the stage that failed and why, or "mapped".
+inline void printOutcome(const FaultCell& cell, const Status& st, const StageRecord* failed) {
+    std::printf("[ fault %s ] %s%s%s (%lld)\n", cell.name.c_str(), failed != nullptr ? stageName(failed->stage) : "mapped",
+                st.isOk() ? "" : ": ", st.isOk() ? "" : st.reason(), static_cast<long long>(st.detail()));
+}
+
+// A refused cell: a named Status with the cell's code, from the cell's stage (where it
+// names them), an error event last, and nothing published.
+inline void expectRefused(const FaultCell& cell, const Status& st, const StageRecord* failed, bool published,
+                          const hal::EventLog& events) {
+    EXPECT_FALSE(st.isOk());
+    EXPECT_STRNE(st.reason(), "");
+    if (cell.code != StatusCode::kOk) {
+        EXPECT_EQ(st.code(), cell.code) << st.reason();
+    }
+    ASSERT_NE(failed, nullptr);
+    if (cell.stage != Stage::kNone) {
+        EXPECT_EQ(failed->stage, cell.stage) << stageName(failed->stage);
+    }
+    EXPECT_FALSE(published);
+    ASSERT_GT(events.size(), 0U);
+    EXPECT_EQ(events.at(events.size() - 1U).severity, hal::Severity::kError);
 }
 
 }  // namespace vtm::app::faults

@@ -127,17 +127,7 @@ protected:
         return mapper_->init(c, *arena_, camera_, odometry_, clock_, events_);
     }
 
-    Status mapWithoutHeap() {
-        Status st;
-        std::uint64_t heap = 0U;
-        {
-            test::NoHeapScope guard;
-            st = mapper_->map();
-            heap = guard.heapCalls();
-        }
-        EXPECT_EQ(heap, 0U) << "map() used the heap";
-        return st;
-    }
+    Status mapWithoutHeap() { return faults::mapWithoutHeap(*mapper_); }
 
     hal::SimCamera::Config sim_camera_config_{};
     hal::FaultPlan plan_;
@@ -434,39 +424,11 @@ TEST_F(WideBaselineMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
 // run under qemu as well).
 const RangeError& cleanRangeError() {
     static const RangeError clean = [] {
-        RangeError e;
-        hal::SimCamera camera;
-        hal::SimOdometry odometry;
-        hal::ManualClock clock;
-        hal::EventLog events;
-        hal::SimCamera::Config cc;
-        cc.scenario = &world().scenario;
-        cc.terrain = &world().terrain;
-        cc.frames = &world().frames;
-        const WideBaselineMapperConfig c = configFor(kSize);
-        std::vector<std::byte> pool(WideBaselineMapper::workspaceBytes(c));
-        Arena arena(pool.data(), pool.size());
-        auto mapper = std::make_unique<WideBaselineMapper>();
-        if (camera.init(cc).isOk() && odometry.init({&world().frames, nullptr}).isOk() &&
-            mapper->init(c, arena, camera, odometry, clock, events).isOk() && mapper->map().isOk()) {
-            e = rangeError(*mapper->products(), world().frames.frames[0]);
-        }
-        return e;
+        static faults::CleanRequest<WideBaselineMapper> request;
+        const WideBaselineProducts* p = request.fly(configFor(kSize), world());
+        return p != nullptr ? rangeError(*p, world().frames.frames[0]) : RangeError{};
     }();
     return clean;
-}
-
-// Where a cell's fault strikes: frame 2 (sequence 1) and the odometry from its time; a
-// jump of 5 % of the baseline along the direction of travel: the baseline length, which
-// the images cannot observe, is what such a jump spoils (every range scales with it).
-hal::Fault aimAtFrame2(const faults::FaultCell& cell) {
-    const sim::ScenarioFrame& f1 = world().frames.frames[0];
-    const sim::ScenarioFrame& f2 = world().frames.frames[1];
-    double jump[3];
-    for (int i = 0; i < 3; ++i) {
-        jump[i] = 0.05 * (f2.true_pose.position_m[i] - f1.true_pose.position_m[i]);
-    }
-    return faults::aim(cell, sim::kMainCameraId, 1U, f2.timestamp_ns, jump);
 }
 
 class WideBaselineFaultMatrix : public WideBaselineMapperTest,
@@ -485,25 +447,14 @@ faults::Expect roverExpectation(const faults::FaultCell& cell) {
 TEST_P(WideBaselineFaultMatrix, ARefusalIsNamedAndADamagedMapStaysBounded) {
     const faults::FaultCell& cell = GetParam();
     const faults::Expect expect = roverExpectation(cell);
-    ASSERT_TRUE(plan_.add(aimAtFrame2(cell)).isOk());
+    ASSERT_TRUE(plan_.add(faults::aimAtSecondFrame(cell, world().frames)).isOk());
     const WideBaselineMapperConfig c = configFor(kSize);
     ASSERT_TRUE(start(c, WideBaselineMapper::workspaceBytes(c)).isOk());
     const Status st = mapWithoutHeap();
     const StageRecord* failed = mapper_->stages().failed();
-    std::printf("[ fault %s ] %s%s%s (%lld)\n", cell.name.c_str(), failed != nullptr ? stageName(failed->stage) : "mapped",
-                st.isOk() ? "" : ": ", st.isOk() ? "" : st.reason(), static_cast<long long>(st.detail()));
+    faults::printOutcome(cell, st, failed);
     if (expect == faults::Expect::kRefused) {
-        EXPECT_FALSE(st.isOk());
-        EXPECT_STRNE(st.reason(), "");
-        if (cell.code != StatusCode::kOk) {
-            EXPECT_EQ(st.code(), cell.code) << st.reason();
-        }
-        ASSERT_NE(failed, nullptr);
-        if (cell.stage != Stage::kNone) {
-            EXPECT_EQ(failed->stage, cell.stage) << stageName(failed->stage);
-        }
-        EXPECT_EQ(mapper_->products(), nullptr);
-        EXPECT_EQ(events_.at(events_.size() - 1U).severity, hal::Severity::kError);
+        faults::expectRefused(cell, st, failed, mapper_->products() != nullptr, events_);
         return;
     }
     ASSERT_TRUE(st.isOk()) << (failed != nullptr ? stageName(failed->stage) : "") << ": " << st.reason();
