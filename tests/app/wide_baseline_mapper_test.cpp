@@ -78,15 +78,12 @@ World& world() {
     return *w;
 }
 
-Mat3 rotationOf(const double q[4]) { return Quat(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix(); }
-
 // The mast camera's mount, from the simulator's TRUE vehicle and camera poses of frame 0.
 CameraMount mountOf(const sim::ScenarioFrame& f) {
-    const Mat3 R_site_from_vehicle = rotationOf(f.true_pose.attitude_wxyz);
-    const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
+    const RigidPose vehicle_from_camera = sim::vehicleFromCamera(f);
     CameraMount m;
-    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R;
-    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.t_m - vehicle);
+    m.R_vehicle_from_camera = vehicle_from_camera.R;
+    m.position_vehicle_m = vehicle_from_camera.t_m;
     return m;
 }
 

@@ -26,6 +26,9 @@ public:
     Status receive(std::uint8_t* buffer, std::size_t capacity, std::uint32_t timeout_ms,
                    std::size_t& received) override {
         received = 0U;
+        if (pos_ >= bytes_.size() && closes_) {
+            return Status(StatusCode::kNoData, "scripted: closed");
+        }
         if (pos_ >= bytes_.size()) {
             clock_.advance(static_cast<std::uint64_t>(timeout_ms) * 1000000ULL);
             waited_ms_ += timeout_ms;
@@ -39,6 +42,7 @@ public:
         return Status::ok();
     }
     std::uint64_t waited_ms_ = 0U;
+    bool closes_ = false;  // at the end of the script: the peer closed (kNoData), not silence
 
 private:
     ManualClock& clock_;
@@ -259,18 +263,51 @@ TEST_F(SessionTest, InvalidPoseIsCountedAndReportedForItsTime) {
     ASSERT_TRUE(odometry_.poseAt(4000U, p).isOk());
 }
 
-TEST_F(SessionTest, ReplayedFrameMessagesAreRefused) {
+TEST_F(SessionTest, ReplayedMessagesAreCountedAndDroppedWithoutLosingAFrame) {
     StreamBuilder b = frames(1U);
-    const std::vector<std::uint8_t> chunk = b.messageBytes(3);  // first chunk of frame 1, again
+    // Frame 1's first chunk again after the frame (between frames), then frame 2 with its
+    // begin and its second chunk each sent twice (inside the frame).
+    const std::vector<std::uint8_t> chunk = b.messageBytes(3);
     b.bytes.insert(b.bytes.end(), chunk.begin(), chunk.end());
+    const std::size_t first_of_frame2 = b.messages.size();
     b.frame(test::testFrameInfo(2U, kW, kH, 8), test::testPixels8(2U, kW, kH), 333U);
-    start(b);
+    const std::vector<std::uint8_t> begin2 = b.messageBytes(first_of_frame2);
+    const std::vector<std::uint8_t> chunk2 = b.messageBytes(first_of_frame2 + 2U);
+    std::vector<std::uint8_t> bytes(b.bytes.begin(), b.bytes.begin() + static_cast<std::ptrdiff_t>(b.messages[first_of_frame2 + 1U].begin));
+    bytes.insert(bytes.end(), begin2.begin(), begin2.end());
+    bytes.insert(bytes.end(), b.bytes.begin() + static_cast<std::ptrdiff_t>(b.messages[first_of_frame2 + 1U].begin),
+                 b.bytes.begin() + static_cast<std::ptrdiff_t>(b.messages[first_of_frame2 + 3U].begin));
+    bytes.insert(bytes.end(), chunk2.begin(), chunk2.end());
+    bytes.insert(bytes.end(), b.bytes.begin() + static_cast<std::ptrdiff_t>(b.messages[first_of_frame2 + 3U].begin), b.bytes.end());
+    StreamBuilder replayed;
+    replayed.bytes = bytes;
+    start(replayed, 50U);
     FrameInfo info;
     ASSERT_TRUE(camera_.capture(out_, info).isOk());
-    EXPECT_EQ(camera_.capture(out_, info).code(), StatusCode::kOutOfOrder);
-    EXPECT_EQ(session_->counters().count(LinkFault::kReplay), 1U);
+    EXPECT_EQ(info.sequence, 1U);
     ASSERT_TRUE(camera_.capture(out_, info).isOk());
     EXPECT_EQ(info.sequence, 2U);
+    EXPECT_EQ(pixels_, test::testPixels8(2U, kW, kH));
+    EXPECT_EQ(session_->counters().count(LinkFault::kReplay), 3U);
+    EXPECT_EQ(session_->counters().totalFaults(), 3U);
+    EXPECT_EQ(session_->counters().frames_ok, 2U);
+}
+
+TEST_F(SessionTest, GarbageInsideAFrameCostsNoFrame) {
+    const StreamBuilder b = frames(1U);
+    std::vector<std::uint8_t> bytes(b.bytes.begin(), b.bytes.begin() + static_cast<std::ptrdiff_t>(b.messages[4].begin));
+    for (int i = 0; i < 37; ++i) {
+        bytes.push_back(static_cast<std::uint8_t>(i * 29 + 5));
+    }
+    bytes.insert(bytes.end(), b.bytes.begin() + static_cast<std::ptrdiff_t>(b.messages[4].begin), b.bytes.end());
+    StreamBuilder g;
+    g.bytes = bytes;
+    start(g, 64U);
+    FrameInfo info;
+    ASSERT_TRUE(camera_.capture(out_, info).isOk());
+    EXPECT_EQ(pixels_, test::testPixels8(1U, kW, kH));
+    EXPECT_EQ(session_->counters().count(LinkFault::kBadMagic), 1U);
+    EXPECT_EQ(session_->counters().totalFaults(), 1U);
 }
 
 TEST_F(SessionTest, GarbageBetweenFramesIsSkippedWithOneFault) {
@@ -285,11 +322,50 @@ TEST_F(SessionTest, GarbageBetweenFramesIsSkippedWithOneFault) {
     start(g, 128U);
     FrameInfo info;
     ASSERT_TRUE(camera_.capture(out_, info).isOk());
-    EXPECT_EQ(camera_.capture(out_, info).code(), StatusCode::kCorruptData);
-    ASSERT_TRUE(camera_.capture(out_, info).isOk());
+    ASSERT_TRUE(camera_.capture(out_, info).isOk());  // the garbage damaged no message
     EXPECT_EQ(info.sequence, 2U);
     EXPECT_EQ(pixels_, test::testPixels8(2U, kW, kH));
     EXPECT_EQ(session_->counters().count(LinkFault::kBadMagic), 1U);
+}
+
+TEST_F(SessionTest, ReconnectCarriesOnWithTheNewStreamAndKeepsCountersAndPoses) {
+    LinkSession::Config config;
+    EXPECT_EQ(session_->reconnect(*std::make_unique<ScriptedStream>(clock_, std::vector<std::uint8_t>{}, 1U)).code(),
+              StatusCode::kNotInitialized);
+    // The first connection closes in the middle of frame 2's third chunk.
+    const StreamBuilder first = frames(2U);
+    ASSERT_GT(first.messages.size(), 10U);
+    const std::size_t cut = first.messages[10].begin + 5U;
+    auto old_stream = std::make_unique<ScriptedStream>(
+        clock_, std::vector<std::uint8_t>(first.bytes.begin(), first.bytes.begin() + static_cast<std::ptrdiff_t>(cut)), 64U);
+    old_stream->closes_ = true;
+    ASSERT_TRUE(session_->init(config, *old_stream, clock_).isOk());
+    FrameInfo info;
+    ASSERT_TRUE(camera_.capture(out_, info).isOk());
+    EXPECT_EQ(info.sequence, 1U);
+    EXPECT_EQ(camera_.capture(out_, info).code(), StatusCode::kIoError);
+    EXPECT_EQ(session_->counters().count(LinkFault::kStreamError), 1U);
+    // The new stream numbers its messages from 1 again and starts with the description.
+    StreamBuilder second;
+    second.camera(test::testCamera(kW, kH, 8));
+    const FrameInfo third = test::testFrameInfo(3U, kW, kH, 8);
+    second.pose(test::testPose(third.timestamp_ns, 1.5));
+    second.frame(third, test::testPixels8(3U, kW, kH), 333U);
+    second.endOfStream();
+    ScriptedStream new_stream(clock_, second.bytes, 100U);
+    ASSERT_TRUE(session_->reconnect(new_stream).isOk());
+    ASSERT_TRUE(camera_.capture(out_, info).isOk());
+    EXPECT_EQ(info.sequence, 3U);
+    EXPECT_EQ(pixels_, test::testPixels8(3U, kW, kH));
+    PoseEstimate p;
+    ASSERT_TRUE(odometry_.poseAt(test::testFrameInfo(1U, kW, kH, 8).timestamp_ns, p).isOk());  // kept
+    EXPECT_EQ(p.position_m[0], 0.5);
+    EXPECT_EQ(camera_.capture(out_, info).code(), StatusCode::kNoData);
+    const LinkCounters& c = session_->counters();
+    EXPECT_EQ(c.reconnects, 1U);
+    EXPECT_EQ(c.frames_ok, 2U);
+    EXPECT_EQ(c.count(LinkFault::kReplay), 0U);  // sequence 1 again is a new stream, not a replay
+    EXPECT_EQ(c.count(LinkFault::kStreamError), 1U);
 }
 
 TEST_F(SessionTest, CaptureAndPoseAtAllocateNothing) {

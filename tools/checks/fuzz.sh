@@ -9,6 +9,8 @@
 # (valid inputs; Python's zlib.crc32 computes the link CRCs independently of our code),
 # runs each target for FUZZ_SECONDS (default 30; FUZZ_JOBS of them at once, default the
 # number of cores) and prints executions and findings.
+# With FUZZ_RUNS=N each target runs N executions instead (no time limit): the long
+# campaign of docs/static-analysis.md is FUZZ_RUNS=10000000 FUZZ_JOBS=1 tools/checks/fuzz.sh.
 # Exit 1 if any target found a crash, leak, timeout or sanitizer report.
 #
 #   tools/checks/fuzz.sh [SECONDS]        e.g. FUZZ_JOBS=1 tools/checks/fuzz.sh 60
@@ -17,6 +19,10 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 seconds=${1:-${FUZZ_SECONDS:-30}}
 jobs=${FUZZ_JOBS:-$(nproc)}
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: FUZZ_JOBS must be a positive integer, got '$jobs'" >&2; exit 2; }
+[[ "$seconds" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: SECONDS must be a positive integer, got '$seconds'" >&2; exit 2; }
+runs=${FUZZ_RUNS:-}
+[[ -z "$runs" || "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: FUZZ_RUNS must be a positive integer, got '$runs'" >&2; exit 2; }
+if [[ -n "$runs" ]]; then limit=(-runs="$runs" -max_total_time=0); else limit=(-max_total_time="$seconds"); fi
 build=${FUZZ_BUILD_DIR:-$root/build/fuzz}
 work=$build/runs
 
@@ -98,19 +104,20 @@ PY
 # not the fuzzing each one gets. The reports are printed in a fixed order afterwards.
 run() {  # name dir: runs one target, writes its report line(s) to dir/report.txt and 0/1 to dir/status
   local name=$1 dir=$work/$2
+  local start=$SECONDS
   set +e
-  "$build/$name" "$dir/corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  "$build/$name" "$dir/corpus" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 \
       -artifact_prefix="$dir/artifacts/" -print_final_stats=1 >"$dir/log.txt" 2>&1
   local rc=$?
   set -e
-  local execs findings
+  local took=$((SECONDS - start)) execs findings
   # (no stats line after a crash: grep fails, which must not end the run under pipefail)
   execs=$(grep -m1 "stat::number_of_executed_units" "$dir/log.txt" | awk '{print $2}' || true)
   findings=$(find "$dir/artifacts" -type f | wc -l)
   local failed=0
   [[ $rc -eq 0 && $findings -eq 0 ]] || failed=1
   {
-    printf '%-18s %3ss  executions %-10s corpus %-5s findings %s (exit %s)\n' "$name" "$seconds" "${execs:-?}" \
+    printf '%-18s %5ss  executions %-10s corpus %-5s findings %s (exit %s)\n' "$name" "$took" "${execs:-?}" \
         "$(find "$dir/corpus" -type f | wc -l)" "$findings" "$rc"
     if [[ $failed -ne 0 ]]; then
       grep -m5 -E "ERROR|SUMMARY|runtime error" "$dir/log.txt" || true

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "hal/link/protocol.hpp"
+#include "serve_writer.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "sim/terrain.hpp"
@@ -41,7 +42,8 @@ public:
 // rendered on demand exactly as an in-process renderFrame() call with the same request.
 class ScenarioFrameSource final : public FrameSource {
 public:
-    Status load(const std::string& path) {
+    // camera_id < 0: every camera whose frame size is the main camera's.
+    Status load(const std::string& path, int camera_id) {
         std::ifstream in(path, std::ios::binary);
         if (!in) {
             return Status(StatusCode::kIoError, "serve: cannot read the scenario file");
@@ -57,7 +59,8 @@ public:
         VTM_RETURN_IF_ERROR(sim::buildScenarioFrames(scenario_, terrain_, *frames_));
         for (std::int32_t i = 0; i < frames_->count; ++i) {
             const sim::ScenarioFrame& f = frames_->frames[i];
-            if (f.model.width_px == scenario_.camera.width_px && f.model.height_px == scenario_.camera.height_px) {
+            if (f.model.width_px == scenario_.camera.width_px && f.model.height_px == scenario_.camera.height_px &&
+                (camera_id < 0 || f.camera_id == camera_id)) {
                 selected_.push_back(i);
             }
         }
@@ -138,95 +141,6 @@ private:
     std::vector<std::int32_t> selected_;
 };
 
-struct FaultPlan {
-    int crc_every = 0;
-    int truncate_every = 0;
-    int replay_every = 0;
-    int garbage_every = 0;
-};
-
-bool parseFaults(const std::vector<std::string>& specs, FaultPlan& plan) {
-    for (const std::string& spec : specs) {
-        const std::size_t colon = spec.find(':');
-        if (colon == std::string::npos) {
-            return false;
-        }
-        const std::string kind = spec.substr(0, colon);
-        const int n = std::atoi(spec.c_str() + colon + 1);
-        if (n < 1) {
-            return false;
-        }
-        int* slot = kind == "crc"        ? &plan.crc_every
-                    : kind == "truncate" ? &plan.truncate_every
-                    : kind == "replay"   ? &plan.replay_every
-                    : kind == "garbage"  ? &plan.garbage_every
-                                         : nullptr;
-        if (slot == nullptr) {
-            return false;
-        }
-        *slot = n;
-    }
-    return true;
-}
-
-// Encodes messages, applies the fault plan and writes them to the connected socket.
-class LinkWriter {
-public:
-    LinkWriter(int fd, FaultPlan plan) : fd_(fd), plan_(plan) {}
-
-    bool send(link::MessageType type, const std::vector<std::uint8_t>& payload) {
-        std::vector<std::uint8_t> msg(link::kHeaderBytes + payload.size());
-        const std::size_t n = link::encodeMessage(type, sequence_++, Span<const std::uint8_t>(payload.data(), payload.size()),
-                                                  Span<std::uint8_t>(msg.data(), msg.size()));
-        if (n == 0U) {
-            return false;
-        }
-        ++count_;
-        if (every(plan_.garbage_every)) {
-            std::vector<std::uint8_t> noise(37U);
-            for (std::size_t i = 0U; i < noise.size(); ++i) {
-                noise[i] = static_cast<std::uint8_t>(count_ * 131U + i * 29U);
-            }
-            if (!writeAll(noise.data(), noise.size())) {
-                return false;
-            }
-        }
-        if (every(plan_.crc_every)) {
-            msg[msg.size() > link::kHeaderBytes ? msg.size() - 1U : link::kHeaderBytes - 1U] ^= 0x01U;
-        }
-        const std::size_t size = every(plan_.truncate_every) ? msg.size() / 2U : msg.size();
-        if (!writeAll(msg.data(), size)) {
-            return false;
-        }
-        if (every(plan_.replay_every)) {
-            return writeAll(msg.data(), msg.size());
-        }
-        return true;
-    }
-    std::uint64_t bytesWritten() const { return bytes_; }
-    std::uint64_t messages() const { return count_; }
-
-private:
-    bool every(int n) const { return n > 0 && count_ % static_cast<std::uint64_t>(n) == 0U; }
-    bool writeAll(const std::uint8_t* data, std::size_t size) {
-        std::size_t pos = 0U;
-        while (pos < size) {  // bound: each pass writes >= 1 byte or fails
-            const ssize_t w = ::send(fd_, data + pos, size - pos, MSG_NOSIGNAL);
-            if (w <= 0) {
-                return false;
-            }
-            pos += static_cast<std::size_t>(w);
-        }
-        bytes_ += size;
-        return true;
-    }
-    int fd_;
-    FaultPlan plan_;
-    std::uint32_t sequence_ = 1U;
-    std::uint64_t count_ = 0U;
-    std::uint64_t bytes_ = 0U;
-};
-
 int fail(int code, const std::string& what) {
     std::fprintf(stderr, "vtm-sim serve: %s\n", what.c_str());
     return code;
@@ -280,66 +194,111 @@ int acceptOne(int listen_fd, int timeout_s) {
     return ::accept(listen_fd, nullptr, nullptr);
 }
 
-// Streams everything; false when the receiver went away.
-bool streamFrames(FrameSource& source, LinkWriter& writer, const ServeOptions& o, int count, std::string& error) {
+// One connection's start: the camera description (its own fault draws apply).
+LinkWriter::Sent sendDescription(FrameSource& source, LinkWriter& writer) {
     std::vector<std::uint8_t> payload(link::kCameraDescriptionBytes);
     link::encodeCameraDescription(source.camera(), payload.data());
-    if (!writer.send(link::MessageType::kCameraDescription, payload)) {
-        error = "receiver closed the connection";
-        return false;
-    }
-    const auto start = std::chrono::steady_clock::now();
+    writer.setFrame(-1, false);
+    return writer.send(link::MessageType::kCameraDescription, payload);
+}
+
+// Frame i of the stream: its pose (once per vehicle time), its begin and its chunks.
+LinkWriter::Sent sendFrame(FrameSource& source, LinkWriter& writer, const ServeOptions& o, int i,
+                           std::uint64_t& last_pose_ns, std::string& error) {
+    hal::FrameInfo info;
     std::vector<std::uint8_t> packed;
+    const Status s = source.frame(i % source.frameCount(), info, packed);
+    if (!s.isOk()) {
+        error = std::string("render failed: ") + s.reason();
+        return LinkWriter::Sent::kPeerGone;
+    }
+    if (i >= source.frameCount()) {  // --frames beyond the scenario: repeat, with fresh sequence and time
+        const auto lap = static_cast<std::uint32_t>(i / source.frameCount());
+        info.sequence += 100000U * lap;
+        info.timestamp_ns += 1000000000000ULL * lap;
+    }
+    hal::PoseEstimate pose = source.pose(i % source.frameCount());
+    pose.timestamp_ns = info.timestamp_ns;
+    using Sent = LinkWriter::Sent;
+    Sent sent = Sent::kOk;
+    std::vector<std::uint8_t> payload;
+    // One pose per vehicle time: frames of several cameras taken together share it
+    // (the ICD requires pose times to increase).
+    if (last_pose_ns == 0U || pose.timestamp_ns > last_pose_ns) {
+        payload.assign(link::kPoseBytes, 0U);
+        link::encodePose(pose, payload.data());
+        writer.setFrame(info.sequence, true);
+        sent = writer.send(link::MessageType::kPose, payload);
+        last_pose_ns = pose.timestamp_ns;
+    }
+    writer.setFrame(info.sequence, false);
+    link::FrameBegin begin;
+    begin.info = info;
+    begin.bytes_per_pixel = info.bit_depth > 8U ? 2U : 1U;
+    begin.pixel_bytes = static_cast<std::uint32_t>(packed.size());
+    payload.assign(link::kFrameBeginBytes, 0U);
+    link::encodeFrameBegin(begin, payload.data());
+    if (sent == Sent::kOk) {
+        sent = writer.send(link::MessageType::kFrameBegin, payload);
+    }
+    const std::size_t chunk = static_cast<std::size_t>(o.chunk_bytes) / begin.bytes_per_pixel * begin.bytes_per_pixel;
+    for (std::size_t off = 0U; sent == Sent::kOk && off < packed.size(); off += chunk) {
+        const std::size_t n = std::min(chunk, packed.size() - off);
+        payload.resize(link::kFrameChunkPrefixBytes + n);
+        link::encodeFrameChunkPrefix(info.sequence, static_cast<std::uint32_t>(off), payload.data());
+        std::copy(packed.begin() + static_cast<std::ptrdiff_t>(off),
+                  packed.begin() + static_cast<std::ptrdiff_t>(off + n), payload.begin() + link::kFrameChunkPrefixBytes);
+        sent = writer.send(link::MessageType::kFrameChunk, payload);
+    }
+    if (sent == Sent::kPeerGone && error.empty()) {
+        error = "receiver closed the connection";
+    }
+    return sent;
+}
+
+// Streams everything; false when the receiver went away. A disconnect fault closes the
+// connection: the next one is accepted and the stream goes on with the next frame (the
+// last frame and the end of stream are never damaged, so that the receiver sees the end).
+bool streamFrames(FrameSource& source, LinkWriter& writer, const ServeOptions& o, int count, int listen_fd,
+                  std::string& error) {
+    using Sent = LinkWriter::Sent;
+    const auto start = std::chrono::steady_clock::now();
     std::uint64_t last_pose_ns = 0U;
-    for (int i = 0; i < count; ++i) {
+    Sent sent = sendDescription(source, writer);
+    int i = 0;
+    // bound: each pass sends frame i and moves on, or takes the next connection after a
+    // disconnect fault (the frame it cut short is not sent again)
+    for (;;) {
+        if (sent == Sent::kDisconnected) {
+            const int fd = acceptOne(listen_fd, o.accept_timeout_s);
+            if (fd < 0) {
+                error = "the receiver did not reconnect in time";
+                return false;
+            }
+            writer.attach(fd);
+            last_pose_ns = 0U;  // the new stream starts with a pose again
+            sent = sendDescription(source, writer);
+            continue;
+        }
+        if (sent == Sent::kPeerGone) {
+            error = error.empty() ? "receiver closed the connection" : error;
+            return false;
+        }
+        if (i >= count) {
+            break;
+        }
         if (o.rate_hz > 0.0) {
             std::this_thread::sleep_until(start + std::chrono::duration<double>(i / o.rate_hz));
         }
-        hal::FrameInfo info;
-        const Status s = source.frame(i % source.frameCount(), info, packed);
-        if (!s.isOk()) {
-            error = std::string("render failed: ") + s.reason();
-            return false;
+        if (i == count - 1) {
+            writer.protect();
         }
-        if (i >= source.frameCount()) {  // --frames beyond the scenario: repeat, with fresh sequence and time
-            const auto lap = static_cast<std::uint32_t>(i / source.frameCount());
-            info.sequence += 100000U * lap;
-            info.timestamp_ns += 1000000000000ULL * lap;
-        }
-        hal::PoseEstimate pose = source.pose(i % source.frameCount());
-        pose.timestamp_ns = info.timestamp_ns;
-        bool ok = true;
-        // One pose per vehicle time: frames of several cameras taken together share it
-        // (the ICD requires pose times to increase).
-        if (i == 0 || pose.timestamp_ns > last_pose_ns) {
-            payload.assign(link::kPoseBytes, 0U);
-            link::encodePose(pose, payload.data());
-            ok = writer.send(link::MessageType::kPose, payload);
-            last_pose_ns = pose.timestamp_ns;
-        }
-        link::FrameBegin begin;
-        begin.info = info;
-        begin.bytes_per_pixel = info.bit_depth > 8U ? 2U : 1U;
-        begin.pixel_bytes = static_cast<std::uint32_t>(packed.size());
-        payload.assign(link::kFrameBeginBytes, 0U);
-        link::encodeFrameBegin(begin, payload.data());
-        ok = ok && writer.send(link::MessageType::kFrameBegin, payload);
-        const std::size_t chunk = static_cast<std::size_t>(o.chunk_bytes) / begin.bytes_per_pixel * begin.bytes_per_pixel;
-        for (std::size_t off = 0U; ok && off < packed.size(); off += chunk) {
-            const std::size_t n = std::min(chunk, packed.size() - off);
-            payload.resize(link::kFrameChunkPrefixBytes + n);
-            link::encodeFrameChunkPrefix(info.sequence, static_cast<std::uint32_t>(off), payload.data());
-            std::copy(packed.begin() + static_cast<std::ptrdiff_t>(off),
-                      packed.begin() + static_cast<std::ptrdiff_t>(off + n), payload.begin() + link::kFrameChunkPrefixBytes);
-            ok = writer.send(link::MessageType::kFrameChunk, payload);
-        }
-        if (!ok) {
-            error = "receiver closed the connection";
-            return false;
-        }
+        sent = sendFrame(source, writer, o, i, last_pose_ns, error);
+        ++i;
     }
-    if (!writer.send(link::MessageType::kEndOfStream, {})) {
-        error = "receiver closed the connection";
+    writer.setFrame(-1, false);
+    if (sent != Sent::kOk || writer.send(link::MessageType::kEndOfStream, {}) != Sent::kOk) {
+        error = error.empty() ? "receiver closed the connection" : error;
         return false;
     }
     return true;
@@ -355,8 +314,19 @@ int runServe(const ServeOptions& o) {
     if (!parseFaults(o.faults, plan) || o.chunk_bytes < 2 || o.chunk_bytes > static_cast<int>(link::kMaxChunkDataBytes)) {
         return fail(2, "--fault must be crc:N, truncate:N, replay:N or garbage:N (N >= 1); --chunk 2..65536");
     }
+    if (o.soak_seed >= 0) {
+        if (!o.faults.empty() || o.fault_rate_permille < 0 || o.fault_rate_permille > 1000 || o.stall_ms < 0 ||
+            o.hang_ms < 0) {
+            return fail(2, "--soak takes no --fault; --fault-rate 0..1000, --stall-ms and --hang-ms >= 0");
+        }
+        plan.soak = true;
+        plan.seed = static_cast<std::uint64_t>(o.soak_seed);
+        plan.rate_permille = o.fault_rate_permille;
+        plan.stall_ms = o.stall_ms;
+        plan.hang_ms = o.hang_ms;
+    }
     ScenarioFrameSource source;
-    const Status loaded = source.load(o.scenario);
+    const Status loaded = source.load(o.scenario, o.camera_id);
     if (!loaded.isOk() || source.frameCount() == 0) {
         return fail(1, o.scenario + ": " + (loaded.isOk() ? "no frames" : loaded.reason()) + " (detail " +
                            std::to_string(loaded.detail()) + ")");
@@ -368,22 +338,33 @@ int runServe(const ServeOptions& o) {
     }
     std::fprintf(stderr, "vtm-sim serve: listening on %s\n", o.unix_path.empty() ? o.tcp.c_str() : o.unix_path.c_str());
     const int fd = acceptOne(lfd, o.accept_timeout_s);
-    ::close(lfd);
     if (fd < 0) {
+        ::close(lfd);
         return fail(1, "no receiver connected in time");
     }
-    LinkWriter writer(fd, plan);
+    LinkWriter writer(plan);
+    writer.attach(fd);
     const int count = o.frames < 0 ? source.frameCount() : o.frames;
     const auto t0 = std::chrono::steady_clock::now();
-    const bool ok = streamFrames(source, writer, o, count, error);
+    const bool ok = streamFrames(source, writer, o, count, lfd, error);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ::shutdown(fd, SHUT_WR);
-    char drain[256];
-    while (::recv(fd, drain, sizeof(drain), 0) > 0) {  // bound: the receiver closes its end
+    ::close(lfd);
+    if (writer.fd() >= 0) {
+        ::shutdown(writer.fd(), SHUT_WR);
+        char drain[256];
+        while (::recv(writer.fd(), drain, sizeof(drain), 0) > 0) {  // bound: the receiver closes its end
+        }
+        ::close(writer.fd());
     }
-    ::close(fd);
     if (!o.unix_path.empty()) {
         ::unlink(o.unix_path.c_str());
+    }
+    if (!o.fault_log.empty()) {
+        std::ofstream log(o.fault_log);
+        log << writer.log(static_cast<std::uint64_t>(count));
+        if (!log) {
+            return fail(1, "cannot write the fault log " + o.fault_log);
+        }
     }
     std::fprintf(stderr, "vtm-sim serve: %d frames, %llu messages, %.1f MB in %.3f s (%.1f frames/s, %.1f MB/s)\n",
                  count, static_cast<unsigned long long>(writer.messages()), writer.bytesWritten() / 1e6, s, count / s,
@@ -402,6 +383,12 @@ CLI::App* addServeCommand(CLI::App& app) {
     cmd->add_option("--chunk", options.chunk_bytes, "pixel bytes per chunk message, 2..65536");
     cmd->add_option("--accept-timeout", options.accept_timeout_s, "seconds to wait for the receiver");
     cmd->add_option("--fault", options.faults, "crc:N | truncate:N | replay:N | garbage:N (repeatable)");
+    cmd->add_option("--camera", options.camera_id, "stream only this camera's frames (default: every camera of the main size)");
+    cmd->add_option("--soak", options.soak_seed, "random faults of every kind from this seed (docs/hal-link.md, Soak)");
+    cmd->add_option("--fault-rate", options.fault_rate_permille, "--soak: messages hit per 1000 (default 20)");
+    cmd->add_option("--stall-ms", options.stall_ms, "--soak: pause of a stall, ms (default 100)");
+    cmd->add_option("--hang-ms", options.hang_ms, "--soak: pause of a hang, ms (default 0: no hangs)");
+    cmd->add_option("--fault-log", options.fault_log, "write what was injected, per frame and in total");
     cmd->callback([]() {
         const int code = runServe(options);
         if (code != 0) {

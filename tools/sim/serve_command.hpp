@@ -1,11 +1,15 @@
 // `vtm-sim serve <scenario> --tcp HOST:PORT | --unix PATH [--frames N] [--rate HZ]
-//  [--chunk BYTES] [--fault KIND:N]...`: the ground side of the HIL link. Waits for one
+//  [--chunk BYTES] [--fault KIND:N]... [--camera ID] [--soak SEED [--fault-rate PERMILLE]
+//  [--stall-ms MS] [--hang-ms MS]] [--fault-log FILE]`: the ground side of the HIL link. Waits for one
 // flight-side receiver to connect, then streams the scenario's camera description and,
 // per frame, the odometry pose and the rendered frame in the framed protocol of
 // docs/icd-hil-link.md, then an end-of-stream message. Fault flags damage the stream on
 // purpose for tests: crc:N (a payload byte of every Nth message flipped after its CRC
 // was computed), truncate:N (every Nth message cut to half), replay:N (every Nth message
-// sent twice), garbage:N (37 bytes of noise before every Nth message).
+// sent twice), garbage:N (37 bytes of noise before every Nth message); one fault per
+// message. --soak SEED draws faults at random instead, of every kind including drops,
+// stalls, hangs and disconnects (after which the next connection is accepted and the
+// stream goes on with the next frame); --fault-log FILE writes what was injected.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -24,6 +28,12 @@ struct ServeOptions {
     int chunk_bytes = 65536;        // pixel bytes per chunk message (whole pixels)
     int accept_timeout_s = 30;      // give up when nobody connects
     std::vector<std::string> faults;  // "crc:N", "truncate:N", "replay:N", "garbage:N"
+    int camera_id = -1;             // only this camera's frames (-1: every camera of the main size)
+    long long soak_seed = -1;       // >= 0: random faults of every kind (serve_writer.hpp)
+    int fault_rate_permille = 20;   // --soak: messages hit per 1000
+    int stall_ms = 100;             // --soak: a stall's pause
+    int hang_ms = 0;                // --soak: a hang's pause (0: none)
+    std::string fault_log;          // what was injected (serve_writer.hpp, LinkWriter::log)
 };
 
 // Registers the subcommand on `app`. When it is parsed the server runs from the

@@ -25,8 +25,6 @@ using ground::GreyImage;
 
 constexpr double kDegPerRad = 57.29577951308232;
 
-Mat3 rotationOf(const double q[4]) { return Quat(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix(); }
-
 // The flight defaults (docs/app.md) at the scenario camera's size; the mount is the
 // simulator's camera pose in its vehicle frame (the calibration).
 app::WideBaselineMapperConfig configFor(const sim::ScenarioFrame& f) {
@@ -298,11 +296,10 @@ std::string writeProducts(const std::string& dir, const app::WideBaselineProduct
 }  // namespace
 
 app::CameraMount cameraMountOf(const sim::ScenarioFrame& f) {
-    const Mat3 R_site_from_vehicle = rotationOf(f.true_pose.attitude_wxyz);
-    const Vec3 vehicle(f.true_pose.position_m[0], f.true_pose.position_m[1], f.true_pose.position_m[2]);
+    const RigidPose vehicle_from_camera = sim::vehicleFromCamera(f);
     app::CameraMount m;
-    m.R_vehicle_from_camera = R_site_from_vehicle.transpose() * f.camera_pose.R;
-    m.position_vehicle_m = R_site_from_vehicle.transpose() * (f.camera_pose.t_m - vehicle);
+    m.R_vehicle_from_camera = vehicle_from_camera.R;
+    m.position_vehicle_m = vehicle_from_camera.t_m;
     return m;
 }
 

@@ -46,6 +46,7 @@ void LinkDecoder::reset() noexcept {
 
 Status LinkDecoder::fault(LinkFault which, const char* reason, std::int64_t detail) noexcept {
     counters_.add(which);
+    last_fault_ = which;
     resyncing_ = true;
     return Status(codeFor(which), reason, detail);
 }

@@ -33,6 +33,22 @@ Status LinkSession::init(const Config& config, ByteStream& stream, const Clock& 
     return Status::ok();
 }
 
+Status LinkSession::reconnect(ByteStream& stream) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "link: reconnect() before init()");
+    }
+    LinkCounters& c = decoder_.counters();
+    c.bytes_skipped += receive_len_ - receive_pos_;
+    ++c.reconnects;
+    decoder_.reset();  // the new stream's sequence numbers start again
+    stream_ = &stream;
+    end_of_stream_ = false;
+    has_pending_frame_ = false;
+    receive_pos_ = 0U;
+    receive_len_ = 0U;
+    return Status::ok();
+}
+
 Status LinkSession::fault(LinkFault which, StatusCode code, const char* reason, std::int64_t detail) noexcept {
     decoder_.counters().add(which);
     return Status(code, reason, detail);
@@ -53,6 +69,9 @@ Status LinkSession::nextMessage(std::uint64_t deadline_ns) noexcept {
             const Status s = decoder_.push(
                 Span<const std::uint8_t>(receive_ + receive_pos_, receive_len_ - receive_pos_), used, ready);
             receive_pos_ += used;
+            if (!s.isOk() && LinkDecoder::harmless(decoder_.lastFault())) {
+                continue;  // counted; garbage and a message received again cost no message
+            }
             if (!s.isOk() || ready) {
                 return s;
             }

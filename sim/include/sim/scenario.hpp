@@ -189,6 +189,10 @@ struct ScenarioFrames {
 [[nodiscard]] Status buildScenarioFrames(const Scenario& scenario, const Terrain& terrain,
                                          ScenarioFrames& out) noexcept;
 
+// The frame's camera pose in its vehicle's frame at the true pose (vehicle_from_camera:
+// X_vehicle = R X_camera + t_m): the mount calibration a mapper is configured with.
+[[nodiscard]] RigidPose vehicleFromCamera(const ScenarioFrame& frame) noexcept;
+
 // The odometry error model applied to a sequence of true poses (timestamps copied): the
 // maths of buildScenarioFrames, for any path. count >= 1.
 void applyOdometryErrors(const OdometryErrorModel& model, std::uint64_t seed, const VehiclePose* truth,

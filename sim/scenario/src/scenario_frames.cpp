@@ -272,6 +272,17 @@ void addOdometry(const Scenario& sc, ScenarioFrames& out) noexcept {
 
 }  // namespace
 
+RigidPose vehicleFromCamera(const ScenarioFrame& f) noexcept {
+    const VehiclePose& v = f.true_pose;
+    const Mat3 R_site_from_vehicle =
+        Quat(v.attitude_wxyz[0], v.attitude_wxyz[1], v.attitude_wxyz[2], v.attitude_wxyz[3]).normalized().toRotationMatrix();
+    const Vec3 vehicle(v.position_m[0], v.position_m[1], v.position_m[2]);
+    RigidPose vehicle_from_camera;
+    vehicle_from_camera.R = R_site_from_vehicle.transpose() * f.camera_pose.R;
+    vehicle_from_camera.t_m = R_site_from_vehicle.transpose() * (f.camera_pose.t_m - vehicle);
+    return vehicle_from_camera;
+}
+
 std::int32_t scenarioFrameCount(const Scenario& scenario) noexcept {
     switch (scenario.kind) {
         case ScenarioKind::kRoverPair: return 4;

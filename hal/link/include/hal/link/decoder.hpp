@@ -57,6 +57,12 @@ public:
     // an empty span if need be) before waiting for more input.
     [[nodiscard]] bool hasPending() const noexcept { return rescan_pos_ < rescan_end_; }
 
+    // The fault behind the last Status that was not ok.
+    [[nodiscard]] LinkFault lastFault() const noexcept { return last_fault_; }
+    // True for the faults that destroy no message: bytes outside any message (kBadMagic)
+    // and a message received again (kReplay). The session counts them and goes on.
+    [[nodiscard]] static bool harmless(LinkFault f) noexcept { return f == LinkFault::kBadMagic || f == LinkFault::kReplay; }
+
     // Forgets any partial message and the sequence history (a new connection).
     void reset() noexcept;
 
@@ -84,6 +90,7 @@ private:
     std::size_t rescan_end_ = 0U;
     bool resyncing_ = false;        // after a fault, until the next good header
     bool have_sequence_ = false;
+    LinkFault last_fault_ = LinkFault::kBadMagic;
     std::uint32_t last_sequence_ = 0U;
     Message message_{};
     LinkCounters counters_{};

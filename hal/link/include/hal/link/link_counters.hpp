@@ -35,6 +35,7 @@ struct LinkCounters {
     std::uint64_t frames_ok = 0U;       // frames delivered by capture
     std::uint64_t poses_ok = 0U;        // poses stored in the ring
     std::uint64_t orphan_chunks = 0U;   // chunks of an abandoned frame, dropped
+    std::uint64_t reconnects = 0U;      // LinkSession::reconnect() calls
 
     [[nodiscard]] std::uint64_t count(LinkFault f) const noexcept {
         return faults[static_cast<std::size_t>(f)];

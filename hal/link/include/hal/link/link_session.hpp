@@ -68,6 +68,15 @@ public:
     // with `clock`. Both must outlive the session. Forgets any earlier session's state.
     [[nodiscard]] Status init(const Config& config, ByteStream& stream, const Clock& clock) noexcept;
 
+    // Carries on over a new connection after the old one failed or closed (kIoError): the
+    // simulator starts a new stream there (sequence numbers from 1, its camera description
+    // first). Bytes of the old connection not yet decoded, a frame in assembly and a frame
+    // begin kept for the next capture are dropped (counted in bytes_skipped as far as they
+    // were received); the counters, the camera description and the pose ring are kept (the
+    // poses are the vehicle's history, not the connection's). Counted in reconnects.
+    // kNotInitialized before init().
+    [[nodiscard]] Status reconnect(ByteStream& stream) noexcept;
+
     [[nodiscard]] const LinkCounters& counters() const noexcept { return decoder_.counters(); }
     // True once the simulator's kEndOfStream arrived: captures then return kNoData.
     [[nodiscard]] bool endOfStream() const noexcept { return end_of_stream_; }
@@ -126,11 +135,14 @@ public:
     // `out`, which must have the described size (else kSizeMismatch, nothing consumed).
     // 8-bit cameras only (else kUnsupported: use capture16). Poses that arrive
     // meanwhile go to the pose ring. Failures, each also counted (LinkFault):
-    //   kTimeout; kCorruptData (bad magic/CRC/length/type, frame cut short or a chunk
-    //   missing); kOutOfOrder (replayed message); kUnsupported (unknown version,
+    //   kTimeout; kCorruptData (bad CRC/length/type, frame cut short or a chunk
+    //   missing); kUnsupported (unknown version,
     //   oversized); kSizeMismatch (frame size differs from the description); kNoData
     //   (end of stream); kIoError (connection lost). A frame in assembly when a fault
-    //   occurs is abandoned; the next call carries on with the next frame.
+    //   occurs is abandoned; the next call carries on with the next frame. Faults that
+    //   destroy no message are only counted: bytes outside any message (kBadMagic,
+    //   skipped) and a message received again (kReplay, dropped) fail no call and cost
+    //   no frame.
     [[nodiscard]] Status capture(const ImageView<std::uint8_t>& out, FrameInfo& info) noexcept override;
     // The same for cameras of bit_depth 9..16 (samples above 2^bit_depth - 1: kCorruptData).
     [[nodiscard]] Status capture16(const ImageView<std::uint16_t>& out, FrameInfo& info) noexcept override;
