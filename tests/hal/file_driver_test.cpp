@@ -826,6 +826,9 @@ TEST_F(FileCameraTest, DamagedFramesAreReportedAndSkipped) {
     const std::string big_head = "P5 4 3 255\n";
     Bytes png_ok = pngStored({4, 3, 8, 0}, good.px);
     Bytes png_cut(png_ok.begin(), png_ok.begin() + 45);
+    Bytes png_empty_idat(png_ok.begin(), png_ok.begin() + 33);  // an empty IDAT right after IHDR (fuzz finding)
+    pngChunk(png_empty_idat, "IDAT", {});
+    png_empty_idat.insert(png_empty_idat.end(), png_ok.begin() + 33, png_ok.end());
     Bytes png_bad_stream = pngStored({4, 3, 8, 0}, good.px, Bytes{0x78, 0x01, 0xFF, 0xFF, 0xFF, 0xFF});
     Bytes png_bad_filter_method = png_ok;
     png_bad_filter_method[27] = 1;  // IHDR filter method (the decoder does not check CRCs)
@@ -855,6 +858,7 @@ TEST_F(FileCameraTest, DamagedFramesAreReportedAndSkipped) {
          "frame: height differs from the manifest's height_px", 2},
         {"wide.pgm", pgm(good, 256), StatusCode::kSizeMismatch, "frame: 16-bit samples for an 8-bit camera", 256},
         {"cut.png", png_cut, StatusCode::kCorruptData, "PNG: stb_image rejected the data (corrupt stream)", 0},
+        {"emptyidat.png", png_empty_idat, StatusCode::kCorruptData, "PNG: empty IDAT chunk", 33},
         {"ihdr.png", Bytes(png_ok.begin(), png_ok.begin() + 20), StatusCode::kCorruptData,
          "PNG: IHDR chunk missing or truncated", 20},
         {"zero.png", pngStored({0, 3, 8, 0}, {}), StatusCode::kCorruptData, "PNG: width or height is zero", 0},

@@ -9,7 +9,7 @@
 # (valid inputs; Python's zlib.crc32 computes the link CRCs independently of our code),
 # runs each target for FUZZ_SECONDS (default 30; FUZZ_JOBS of them at once, default the
 # number of cores) and prints executions and findings.
-# With FUZZ_RUNS=N each target runs N executions instead (no time limit): the long
+# FUZZ_TARGETS="NAME..." runs only those targets. With FUZZ_RUNS=N each target runs N executions instead (no time limit): the long
 # campaign of docs/static-analysis.md is FUZZ_RUNS=10000000 FUZZ_JOBS=1 tools/checks/fuzz.sh.
 # Exit 1 if any target found a crash, leak, timeout or sanitizer report.
 #
@@ -128,6 +128,14 @@ run() {  # name dir: runs one target, writes its report line(s) to dir/report.tx
 }
 targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod fuzz_scenario:scn
          fuzz_pose_files:poses)
+if [[ -n ${FUZZ_TARGETS:-} ]]; then  # e.g. FUZZ_TARGETS="fuzz_file_readers fuzz_pose_files"
+  chosen=()
+  for t in "${targets[@]}"; do
+    [[ " $FUZZ_TARGETS " == *" ${t%%:*} "* ]] && chosen+=("$t")
+  done
+  [[ ${#chosen[@]} -gt 0 ]] || { echo "fuzz.sh: FUZZ_TARGETS names none of ${targets[*]%%:*}" >&2; exit 2; }
+  targets=("${chosen[@]}")
+fi
 for t in "${targets[@]}"; do
   while [[ $(jobs -rp | wc -l) -ge $jobs ]]; do wait -n || true; done
   run "${t%%:*}" "${t##*:}" &

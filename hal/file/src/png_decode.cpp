@@ -144,6 +144,25 @@ Status readHeader(const std::uint8_t* bytes, std::size_t size, PngHeader& h) noe
     return Status::ok();
 }
 
+// stb_image copies a first IDAT of length 0 to a null buffer (memcpy(NULL, p, 0): undefined
+// behaviour, found by fuzz_file_readers); no encoder writes one, so such a file is refused
+// before stb_image sees it. Walks the chunk list after IHDR up to IEND or the end of data.
+Status checkChunks(const std::uint8_t* bytes, std::size_t size) noexcept {
+    std::size_t pos = 33U;  // signature 8 + IHDR 25
+    // bound: each pass moves pos on by at least 12 bytes or ends
+    while (pos + 8U <= size) {
+        const std::uint32_t length = bigEndian32(bytes + pos);
+        if (std::memcmp(bytes + pos + 4U, "IDAT", 4U) == 0 && length == 0U) {
+            return Status(StatusCode::kCorruptData, "PNG: empty IDAT chunk", static_cast<std::int64_t>(pos));
+        }
+        if (std::memcmp(bytes + pos + 4U, "IEND", 4U) == 0 || length > size - pos - 8U) {
+            break;  // the end, or a chunk cut short: stb_image reports that
+        }
+        pos += 12U + static_cast<std::size_t>(length);
+    }
+    return Status::ok();
+}
+
 Status checkHeader(const PngHeader& h, const FrameTarget& target) noexcept {
     if (h.interlace != 0U) {
         return Status(StatusCode::kUnsupported, "PNG: interlaced (Adam7) frames are not supported");
@@ -198,6 +217,7 @@ Status decodePng(const std::uint8_t* bytes, std::size_t size, const FrameTarget&
     PngHeader h;
     VTM_RETURN_IF_ERROR(readHeader(bytes, size, h));
     VTM_RETURN_IF_ERROR(checkHeader(h, target));
+    VTM_RETURN_IF_ERROR(checkChunks(bytes, size));
     pngPoolReset();
     int width = 0;
     int height = 0;
