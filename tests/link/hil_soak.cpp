@@ -202,7 +202,7 @@ void* requestLoop(void*) {
         const Status s = g_mapper.map();
         noteRequest(s);
         reconnectIfLost(s);
-        if (r + 1 == n / 2) {
+        if (r + 1 == (n + 1) / 2) {
             g_out.stack_half = stackHighWater();
             g_out.hwm_half_kib = memoryHighWaterKiB();
         }
