@@ -203,12 +203,13 @@ void* requestLoop(void*) {
         noteRequest(s);
         reconnectIfLost(s);
         if (r + 1 == (n + 1) / 2) {
-            g_out.stack_half = stackHighWater();
+            // The /proc read first: its own stack is then inside both marks.
             g_out.hwm_half_kib = memoryHighWaterKiB();
+            g_out.stack_half = stackHighWater();
         }
     }
-    g_out.stack_end = stackHighWater();
     g_out.hwm_end_kib = memoryHighWaterKiB();
+    g_out.stack_end = stackHighWater();
     g_out.heap_calls = guard.heapCalls();
     // Drain to the end of stream: every frame sent is delivered or counted as a fault.
     static std::uint8_t px[2048U * 2048U];
