@@ -467,9 +467,10 @@ TEST_P(WideBaselineFaultMatrix, ARefusalIsNamedAndADamagedMapStaysBounded) {
     const bool jump = cell.fault.kind == hal::FaultKind::kOdometryJump;
     const double scale = jump ? 0.05 : 0.0;
     std::printf("[ fault %s ] range error median %.2f %% (clean %.2f %%), within 5 %% %.1f %% (clean %.1f %%), %zu px "
-                "(clean %zu); exposure gain %.3f\n",
+                "(clean %zu); exposure gain %.3f; %d inliers, epipolar sigma %.3f px\n",
                 cell.name.c_str(), 100.0 * r.median, 100.0 * clean.median, 100.0 * r.within5, 100.0 * clean.within5,
-                r.count, clean.count, static_cast<double>(p->exposure_gain_q16) / 65536.0);
+                r.count, clean.count, static_cast<double>(p->exposure_gain_q16) / 65536.0,
+                static_cast<int>(p->refine.motion.inliers), p->refine.motion.epipolar_sigma_px);
     if (expect == faults::Expect::kMiss) {
         return;
     }

@@ -54,7 +54,7 @@ out, count, size = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 def field(report, label):
     m = re.search(r'^\| %s \| (.*) \|$' % re.escape(label), report, re.M)
     return m.group(1) if m else None
-print('| seed | sun az / el (deg) | baseline (m) | convergence (deg) | result | rotation error odometry -> refined | coverage / good coverage / median error in the band | targets |')
+print('| seed | sun az / el (deg) | baseline (m) | convergence (deg) | result | rotation error odometry -> refined (1 sigma the refiner predicts) | coverage / good coverage / median error in the band | targets |')
 print('|---|---|---|---|---|---|---|---|')
 mapped = met = 0
 for i in range(count):
@@ -66,6 +66,9 @@ for i in range(count):
         report = ''
     band = field(report, 'coverage / good coverage of the band / median range error there')
     rot = field(report, 'rotation error against truth: odometry -> refined') or ''
+    sig = field(report, 'rotation / direction uncertainty the refiner predicts (1 sigma)')
+    if sig:
+        rot += ' (%s)' % sig.split('/')[0].strip()
     if band is None:
         log = open('%s/world_%d.log' % (out, seed)).read().strip().splitlines()
         reason = next((l for l in log if 'fail' in l or 'refus' in l or 'error' in l.lower()), log[-1] if log else 'no output')

@@ -352,6 +352,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| rotation error against truth: odometry -> refined | %.3f -> %.3f deg |\n"
                   "| translation direction error: odometry -> refined | %.3f -> %.3f deg |\n"
                   "| vertical disparity the refiner predicts after rectification | %.3f px |\n"
+                  "| rotation / direction uncertainty the refiner predicts (1 sigma) | %.3f / %.3f deg |\n"
                   "| baseline length error (odometry, kept) | %+.2f %% |\n"
                   "| exposure gain applied to rectified 2 (1: the pair's medians agreed) | %.3f |\n"
                   "| disparity range searched | %d..%d px (coarse level: %d of %d pixels found, %d filled) |\n"
@@ -365,7 +366,8 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
                   "| height map: cells / median abs error / mean error | %lld / %.3f m / %+.3f m |\n"
                   "| time of the request | %.2f s |\n\n",
                   p->refine.matching.matched, p->refine.motion.inliers, m.rot_before_deg, m.rot_after_deg, m.dir_before_deg,
-                  m.dir_after_deg, p->refine.motion.epipolar_sigma_px, 100.0 * m.baseline_scale_error,
+                  m.dir_after_deg, p->refine.motion.epipolar_sigma_px, kDegPerRad * p->refine.motion.rotation_sigma_rad,
+                  kDegPerRad * p->refine.motion.direction_sigma_rad, 100.0 * m.baseline_scale_error,
                   static_cast<double>(p->exposure_gain_q16) / 65536.0, p->disparity_min, p->disparity_max,
                   p->pyramid.coarse.valid_pixels,
                   (p->disparity_px16.width() >> config.stereo.levels) * (p->disparity_px16.height() >> config.stereo.levels),

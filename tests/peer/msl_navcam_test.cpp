@@ -1,0 +1,283 @@
+// A real Mars pair (issue 21 item 6): the Curiosity Navcam B-string pair of sol 1431
+// (../shared/data/msl_navcam, README there: no calibration, nominal 45 deg field of view,
+// 0.42 m baseline, parallel axes). From the nominal geometry as the prior, the flight
+// modules refine the pair (general scene), rectify it and map it with the ML stereo.
+// Judged against the images themselves: OpenCV SIFT matches, found independently of the
+// refinement, must lie on the same row after rectification; the disparities must be
+// plausible for terrain seen from a mast (they grow towards the bottom of the image).
+// VTM_MSL_OUT=DIR writes the rectified pair and the disparity picture (docs/app.md).
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "vtm/core/arena.hpp"
+#include "vtm/core/camera_model.hpp"
+#include "vtm/ground/disparity_colormap.hpp"
+#include "vtm/ground/image_io.hpp"
+#include "vtm/refine/pair_refiner.hpp"
+#include "vtm/rectify/rectifier.hpp"
+#include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/stereo/speckle_filter.hpp"
+
+namespace vtm {
+namespace {
+
+const std::string kDir = std::string(VTM_SHARED_DATA_DIR) + "/msl_navcam/";
+const std::string kLeft = kDir + "NLB_524534514EDR_F0562034NCAM00280M_.jpeg";
+const std::string kRight = kDir + "NRB_524534514EDR_F0562034NCAM00280M_.jpeg";
+constexpr double kBaselineM = 0.42;  // README: the nominal Navcam stereo baseline
+constexpr double kHfovDeg = 45.0;    // README: 45 x 45 deg
+constexpr std::int32_t kSide = 1024;
+
+// Storage for a module's workspace: the arena over a vector sized by workspaceBytes.
+struct Workspace {
+    explicit Workspace(std::size_t bytes) : pool(bytes), arena(pool.data(), pool.size()) {}
+    std::vector<std::byte> pool;
+    Arena arena;
+};
+
+// The nominal prior: parallel axes, camera 2 0.42 m to camera 1's right (X_2 = X_1 - b x).
+CameraPair nominalPair() {
+    CameraPair p;
+    p.model_a = p.model_b = makePinhole(kSide, kSide, kHfovDeg);
+    p.b_from_a.R = Mat3::Identity();
+    p.b_from_a.t_m = Vec3(-kBaselineM, 0.0, 0.0);
+    return p;
+}
+
+struct RowStats {
+    std::size_t count = 0;
+    double rms_px = 0.0;      // of |vd| <= 2 px (the rest: wrong matches)
+    double within1 = 0.0;     // share of all with |vd| <= 1 px
+    double median_abs = 0.0;  // of all
+};
+
+// Vertical disparity y_a - y_b of matches after rectification.
+RowStats rowStats(const rectify::Rectifier& r, const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+    std::vector<double> vd;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        Vec2 ra, rb;
+        if (r.rectifyPixel(rectify::Rectifier::Side::kA, a[i], ra).isOk() &&
+            r.rectifyPixel(rectify::Rectifier::Side::kB, b[i], rb).isOk()) {
+            vd.push_back(ra.y() - rb.y());
+        }
+    }
+    RowStats s;
+    s.count = vd.size();
+    if (vd.empty()) return s;
+    double sum2 = 0.0;
+    std::size_t n2 = 0, n1 = 0;
+    std::vector<double> abs_vd;
+    for (double v : vd) {
+        abs_vd.push_back(std::fabs(v));
+        if (std::fabs(v) <= 2.0) { sum2 += v * v; ++n2; }
+        if (std::fabs(v) <= 1.0) ++n1;
+    }
+    std::nth_element(abs_vd.begin(), abs_vd.begin() + abs_vd.size() / 2, abs_vd.end());
+    s.median_abs = abs_vd[abs_vd.size() / 2];
+    s.rms_px = n2 > 0 ? std::sqrt(sum2 / static_cast<double>(n2)) : 0.0;
+    s.within1 = static_cast<double>(n1) / static_cast<double>(vd.size());
+    return s;
+}
+
+// SIFT matches of the two images (ratio test 0.75, mutual), found without the refinement.
+void siftMatches(const cv::Mat& left, const cv::Mat& right, std::vector<Vec2>& a, std::vector<Vec2>& b) {
+    cv::Ptr<cv::SIFT> sift = cv::SIFT::create(4000);
+    std::vector<cv::KeyPoint> ka, kb;
+    cv::Mat da, db;
+    sift->detectAndCompute(left, cv::noArray(), ka, da);
+    sift->detectAndCompute(right, cv::noArray(), kb, db);
+    cv::BFMatcher bf(cv::NORM_L2);
+    std::vector<std::vector<cv::DMatch>> ab, ba;
+    bf.knnMatch(da, db, ab, 2);
+    bf.knnMatch(db, da, ba, 1);
+    for (const auto& m : ab) {
+        if (m.size() < 2 || m[0].distance > 0.75F * m[1].distance) continue;
+        const auto& back = ba[static_cast<std::size_t>(m[0].trainIdx)];
+        if (back.empty() || back[0].trainIdx != m[0].queryIdx) continue;
+        const cv::Point2f pa = ka[static_cast<std::size_t>(m[0].queryIdx)].pt;
+        const cv::Point2f pb = kb[static_cast<std::size_t>(m[0].trainIdx)].pt;
+        a.emplace_back(pa.x, pa.y);
+        b.emplace_back(pb.x, pb.y);
+    }
+}
+
+ImageView<const std::uint8_t> greyView(const cv::Mat& m) {
+    return ImageView<const std::uint8_t>(m.ptr<std::uint8_t>(0), m.cols, m.rows);
+}
+
+class MslNavcam : public ::testing::Test {
+protected:
+    void SetUp() override {
+        left_ = cv::imread(kLeft, cv::IMREAD_GRAYSCALE);
+        right_ = cv::imread(kRight, cv::IMREAD_GRAYSCALE);
+        ASSERT_FALSE(left_.empty()) << kLeft;
+        ASSERT_FALSE(right_.empty()) << kRight;
+        ASSERT_EQ(left_.cols, kSide);
+        ASSERT_EQ(left_.rows, kSide);
+    }
+    cv::Mat left_, right_;
+};
+
+TEST_F(MslNavcam, RefinedFromTheNominalGeometryRectifiedAndMapped) {
+    // 1. Refinement: general scene (no level ground assumed), ranges 1 m .. 1 km.
+    refine::Config rc;
+    rc.match_margin_px = 60.0;
+    Workspace rw(refine::PairRefiner::workspaceBytes(rc));
+    refine::PairRefiner refiner;
+    ASSERT_TRUE(refiner.init(rc, rw.arena).isOk());
+    refine::Request rq;
+    rq.prior = nominalPair();
+    rq.image_a = greyView(left_);
+    rq.image_b = greyView(right_);
+    rq.range_min_m = 1.0;
+    rq.range_max_m = 1000.0;
+    rq.scene = refine::Scene::kGeneral;
+    refine::Result res;
+    const Status st = refiner.refine(rq, res);
+    ASSERT_TRUE(st.isOk()) << st.reason();
+    std::vector<Vec2> inl_a, inl_b;
+    for (std::size_t i = 0; i < res.inliers.size(); ++i) {
+        if (res.inliers[i] != 0U) {
+            inl_a.push_back(res.pixels_a[i]);
+            inl_b.push_back(res.pixels_b[i]);
+        }
+    }
+    EXPECT_GE(inl_a.size(), 50U);
+
+    // 2. Rectification of the nominal and of the refined pair; rows of independent matches.
+    std::vector<Vec2> sift_a, sift_b;
+    siftMatches(left_, right_, sift_a, sift_b);
+    ASSERT_GE(sift_a.size(), 100U) << "SIFT found too few matches to judge the rows";
+    rectify::Config xc;
+    xc.range_min_m = 3.0;
+    xc.range_max_m = 1000.0;
+    Workspace xw(rectify::Rectifier::workspaceBytes(xc));
+    rectify::Rectifier rectifier;
+    ASSERT_TRUE(rectifier.init(xc, xw.arena).isOk());
+    rectify::RectifiedPair nominal, refined;
+    ASSERT_TRUE(rectifier.compute({nominalPair()}, nominal).isOk());
+    const RowStats sift_nominal = rowStats(rectifier, sift_a, sift_b);
+    ASSERT_TRUE(rectifier.compute({res.refined}, refined).isOk());
+    const RowStats sift_refined = rowStats(rectifier, sift_a, sift_b);
+    const RowStats inliers_refined = rowStats(rectifier, inl_a, inl_b);
+
+    // 3. ML stereo on the rectified pair, over the disparities of the refiner's inliers
+    //    (their rectified x_a - x_b) widened by 8 px below and 16 px above (nearer ground
+    //    than the nearest inlier); the left-right check and uniqueness on.
+    double d_lo = 1e9, d_hi = -1e9;
+    for (std::size_t i = 0; i < inl_a.size(); ++i) {
+        Vec2 ra, rb;
+        if (rectifier.rectifyPixel(rectify::Rectifier::Side::kA, inl_a[i], ra).isOk() &&
+            rectifier.rectifyPixel(rectify::Rectifier::Side::kB, inl_b[i], rb).isOk()) {
+            d_lo = std::min(d_lo, ra.x() - rb.x());
+            d_hi = std::max(d_hi, ra.x() - rb.x());
+        }
+    }
+    ASSERT_LT(d_lo, d_hi);
+    cv::Mat rect_a(kSide, kSide, CV_8UC1), rect_b(kSide, kSide, CV_8UC1);
+    ASSERT_TRUE(rectifier.remap(rectify::Rectifier::Side::kA, greyView(left_),
+                                ImageView<std::uint8_t>(rect_a.ptr<std::uint8_t>(0), kSide, kSide)).isOk());
+    ASSERT_TRUE(rectifier.remap(rectify::Rectifier::Side::kB, greyView(right_),
+                                ImageView<std::uint8_t>(rect_b.ptr<std::uint8_t>(0), kSide, kSide)).isOk());
+    stereo::Config sc = stereo::Config::conservative();
+    sc.max_width = sc.max_height = kSide;
+    sc.d_min = static_cast<std::int32_t>(std::floor(d_lo)) - 8;
+    sc.d_max = static_cast<std::int32_t>(std::ceil(d_hi)) + 16;
+    ASSERT_TRUE(sc.validate().isOk()) << sc.validate().reason();
+    Workspace sw(stereo::MlStereo::workspaceBytes(sc));
+    stereo::MlStereo ml;
+    ASSERT_TRUE(ml.init(sc, sw.arena).isOk());
+    std::vector<std::int16_t> disp(static_cast<std::size_t>(kSide) * kSide);
+    const stereo::DisparityOutput out{ImageView<std::int16_t>(disp.data(), kSide, kSide), ImageView<float>(),
+                                      ImageView<std::uint8_t>()};
+    ASSERT_TRUE(ml.compute(greyView(rect_a), greyView(rect_b), out).isOk());
+    // The speckle filter as the rover mapper runs it (islands of at most 100 px, 3 px steps).
+    stereo::SpeckleConfig fc;
+    fc.max_width = fc.max_height = kSide;
+    fc.max_diff_px16 = 3 * stereo::kDisparityScale;
+    Workspace fw(stereo::SpeckleFilter::workspaceBytes(fc));
+    stereo::SpeckleFilter speckles;
+    ASSERT_TRUE(speckles.init(fc, fw.arena).isOk());
+    ASSERT_TRUE(speckles.apply(out).isOk());
+    std::int64_t content = 0, mapped = 0;
+    std::vector<double> quarter[4];
+    for (std::int32_t y = 0; y < kSide; ++y) {
+        for (std::int32_t x = 0; x < kSide; ++x) {
+            std::int16_t xq, yq;
+            if (!rectifier.tableEntry(rectify::Rectifier::Side::kA, x, y, xq, yq).isOk() ||
+                xq == rectify::kOutsideInput) {
+                continue;
+            }
+            ++content;
+            const std::int16_t d = disp[static_cast<std::size_t>(y) * kSide + static_cast<std::size_t>(x)];
+            if (d == stereo::kNoDisparity) continue;
+            ++mapped;
+            quarter[4 * y / kSide].push_back(static_cast<double>(d) / stereo::kDisparityScale);
+        }
+    }
+    double median[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int t = 0; t < 4; ++t) {
+        if (quarter[t].empty()) continue;
+        std::nth_element(quarter[t].begin(), quarter[t].begin() + quarter[t].size() / 2, quarter[t].end());
+        median[t] = quarter[t][quarter[t].size() / 2];
+    }
+    const double share = content > 0 ? static_cast<double>(mapped) / static_cast<double>(content) : 0.0;
+
+    std::printf("[ msl ] %d features, %zu matches, %zu inliers; RMS %.3f -> %.3f px; rotation change %.3f deg, "
+                "direction change %.2f deg; predicted vd %.3f px\n",
+                res.detection.kept, res.matches.size(), inl_a.size(), res.motion.initial_rms_px, res.motion.rms_px,
+                res.rotation_change_deg, res.direction_change_deg, res.motion.epipolar_sigma_px);
+    std::printf("[ msl ] SIFT matches %zu: vertical disparity after rectification, nominal: RMS %.3f px (|vd| <= 2), "
+                "median |vd| %.3f, within 1 px %.1f %%; refined: RMS %.3f px, median |vd| %.3f, within 1 px %.1f %%\n",
+                sift_refined.count, sift_nominal.rms_px, sift_nominal.median_abs, 100.0 * sift_nominal.within1,
+                sift_refined.rms_px, sift_refined.median_abs, 100.0 * sift_refined.within1);
+    std::printf("[ msl ] refiner's inliers after rectification: RMS %.3f px; disparities searched %d..%d px; mapped %.1f %% "
+                "of %lld rectified pixels with content; median disparity by quarter of the rows, top to bottom "
+                "%.1f / %.1f / %.1f / %.1f px (%zu / %zu / %zu / %zu disparities)\n",
+                inliers_refined.rms_px, sc.d_min, sc.d_max, 100.0 * share, static_cast<long long>(content),
+                median[0], median[1], median[2], median[3], quarter[0].size(), quarter[1].size(), quarter[2].size(),
+                quarter[3].size());
+    const Vec3& t = res.refined.b_from_a.t_m;
+    std::printf("[ msl ] refined b_from_a.t_m (%.4f, %.4f, %.4f) m, direction sigma %.2f deg\n", t.x(), t.y(), t.z(),
+                57.29577951308232 * res.motion.direction_sigma_rad);
+
+    // Rows: the independent matches on one row after refinement, much better than nominal.
+    EXPECT_LE(sift_refined.median_abs, 0.3);
+    EXPECT_GE(sift_refined.within1, 0.9);
+    EXPECT_LE(sift_refined.median_abs * 5.0, sift_nominal.median_abs);
+    // A mast's view of the ground: nearer (larger disparity) towards the bottom of the
+    // image (the lower half; the upper holds the sky and the cliff).
+    EXPECT_GT(median[3], median[2]);
+    EXPECT_GE(share, 0.3);
+
+    if (const char* dir = std::getenv("VTM_MSL_OUT")) {
+        const std::string d(dir);
+        cv::imwrite(d + "/msl-rectified1.png", rect_a);
+        cv::imwrite(d + "/msl-rectified2.png", rect_b);
+        cv::Mat colour(kSide, kSide, CV_8UC3, cv::Scalar(0, 0, 0));
+        const float lo = static_cast<float>(std::max(0.0, median[1] - 10.0));
+        const float hi = static_cast<float>(median[3] + 20.0);
+        for (std::int32_t y = 0; y < kSide; ++y) {
+            for (std::int32_t x = 0; x < kSide; ++x) {
+                const std::int16_t v = disp[static_cast<std::size_t>(y) * kSide + static_cast<std::size_t>(x)];
+                if (v == stereo::kNoDisparity) continue;
+                const ground::Rgb c = ground::disparityColor(static_cast<float>(v) / stereo::kDisparityScale, lo, hi);
+                colour.at<cv::Vec3b>(y, x) = cv::Vec3b(c[2], c[1], c[0]);
+            }
+        }
+        cv::imwrite(d + "/msl-disparity.png", colour);
+    }
+}
+
+}  // namespace
+}  // namespace vtm
