@@ -2,6 +2,7 @@
 // exposure equalisation, against an independent computation of the same rule: the gain is
 // the ratio of the two images' medians over the pixels above 0, applied (rounded, clipped
 // at 255) only beyond the tolerance. Exact expected bytes, so the same bits on every target.
+// Also the refinement-certainty rule (relativeRotationSigmaRad, refinementIsCertainEnough).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -99,6 +100,37 @@ TEST(ExposureEqualisation, AnImageWithoutContentIsLeftAlone) {
     std::vector<std::uint8_t> empty = black;
     EXPECT_EQ(equalizeExposure(view(textured(60)), view(empty), 15), 65536U);
     EXPECT_EQ(empty, black);
+}
+
+// The odometry's relative rotation sigma from two poses' covariances: the rotation block's
+// diagonal (indices 21, 28, 35 of the 6x6 row-major matrix) of both, summed, square root;
+// the position block is not part of it.
+TEST(RefinementCertainty, OdometrySigmaIsTheRmsOfBothPosesRotationVariances) {
+    hal::PoseEstimate a, b;
+    EXPECT_EQ(relativeRotationSigmaRad(a, b), 0.0);  // no covariance stated
+    a.covariance[0] = a.covariance[7] = a.covariance[14] = 4.0;  // 2 m position sigma: not rotation
+    EXPECT_EQ(relativeRotationSigmaRad(a, b), 0.0);
+    b.covariance[21] = 0.001 * 0.001;
+    b.covariance[28] = 0.002 * 0.002;
+    b.covariance[35] = 0.02 * 0.02;  // heading dominates, as on a rover
+    a.covariance[35] = 0.01 * 0.01;
+    const double expected = std::sqrt(0.001 * 0.001 + 0.002 * 0.002 + 0.02 * 0.02 + 0.01 * 0.01);
+    EXPECT_NEAR(relativeRotationSigmaRad(a, b), expected, 1e-15);
+    EXPECT_EQ(relativeRotationSigmaRad(a, b), relativeRotationSigmaRad(b, a));
+    b.covariance[35] = std::nan("");
+    EXPECT_EQ(relativeRotationSigmaRad(a, b), 0.0);  // not a usable statement: no gate
+}
+
+// A refinement whose rotation is more than max_ratio times less certain than the odometry's
+// is not published; the rule is off for max_ratio 0 and without an odometry covariance.
+TEST(RefinementCertainty, RefusesOnlyARefinementBeyondTheRatio) {
+    EXPECT_TRUE(refinementIsCertainEnough(0.02, 0.01, 2.0));     // exactly at the limit
+    EXPECT_FALSE(refinementIsCertainEnough(0.0201, 0.01, 2.0));  // beyond it
+    EXPECT_TRUE(refinementIsCertainEnough(0.001, 0.01, 0.5));
+    EXPECT_FALSE(refinementIsCertainEnough(0.0084, 0.0168, 0.5 - 1e-9));
+    EXPECT_TRUE(refinementIsCertainEnough(1.0, 0.01, 0.0));  // off
+    EXPECT_TRUE(refinementIsCertainEnough(1.0, 0.0, 2.0));   // the odometry states nothing
+    EXPECT_FALSE(refinementIsCertainEnough(std::nan(""), 0.01, 2.0));  // no sigma: not certain
 }
 
 }  // namespace

@@ -75,6 +75,20 @@ std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept {
     return static_cast<std::int64_t>(std::floor(1000.0 * math::sqrt(trace > 0.0 ? trace : 0.0) + 0.5));
 }
 
+double relativeRotationSigmaRad(const hal::PoseEstimate& a, const hal::PoseEstimate& b) noexcept {
+    // Rows and columns 3..5 of the 6x6 row-major covariance: the rotation block's diagonal.
+    const double variance = a.covariance[21] + a.covariance[28] + a.covariance[35] + b.covariance[21] +
+                            b.covariance[28] + b.covariance[35];
+    return variance > 0.0 && math::isFinite(variance) ? math::sqrt(variance) : 0.0;
+}
+
+bool refinementIsCertainEnough(double refined_sigma_rad, double odometry_sigma_rad, double max_ratio) noexcept {
+    if (!(max_ratio > 0.0) || !(odometry_sigma_rad > 0.0)) {
+        return true;  // off, or the odometry states no rotation uncertainty to compare with
+    }
+    return refined_sigma_rad <= max_ratio * odometry_sigma_rad;  // false for NaN too
+}
+
 bool inRange(double value, double lo, double hi) noexcept {
     return math::isFinite(value) && value >= lo && value <= hi;
 }

@@ -37,6 +37,18 @@ void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth,
                                              const ImageView<std::uint8_t>& image,
                                              std::int32_t tolerance_percent) noexcept;
 
+// 1-sigma of the odometry's rotation between two poses, radians: sqrt of the sum of the
+// traces of both rotation covariances (the RMS length of the rotation error vector, as
+// motion::MotionResult::rotation_sigma_rad). Their errors taken as independent, an upper
+// bound for drift that accumulates along the drive. 0 when neither carries one.
+[[nodiscard]] double relativeRotationSigmaRad(const hal::PoseEstimate& a, const hal::PoseEstimate& b) noexcept;
+
+// A refined pose may be published only if it is not much less certain than the odometry
+// it started from: false when max_ratio > 0, odometry_sigma_rad > 0 and
+// refined_sigma_rad > max_ratio * odometry_sigma_rad (docs/app.md "Refinement certainty").
+[[nodiscard]] bool refinementIsCertainEnough(double refined_sigma_rad, double odometry_sigma_rad,
+                                             double max_ratio) noexcept;
+
 // Position sigma (mm) of a pose: sqrt of the trace of its position covariance.
 [[nodiscard]] std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept;
 

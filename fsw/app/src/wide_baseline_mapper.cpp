@@ -13,6 +13,8 @@ namespace {
 using detail::carve;
 using detail::toGrey8;
 
+constexpr double kDegPerRad = 180.0 / math::kPi;
+
 Status invalid(const char* reason, std::int64_t value = 0) noexcept {
     return Status(StatusCode::kInvalidConfig, reason, value);
 }
@@ -98,6 +100,9 @@ Status WideBaselineMapperConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(height_map.validate());
     if (!detail::inRange(attitude_sigma_rad, 0.0, math::kPi)) {
         return invalid("attitude_sigma_rad: must be 0..pi");
+    }
+    if (!(max_refined_sigma_ratio == 0.0 || detail::inRange(max_refined_sigma_ratio, 0.5, 100.0))) {
+        return invalid("max_refined_sigma_ratio: must be 0 (off) or 0.5..100");
     }
     if (!detail::inRange(relief_below_m, 0.0, 1000.0)) {
         return invalid("relief_below_m: must be 0..1000");
@@ -247,6 +252,14 @@ Status WideBaselineMapper::refinePose() noexcept {
     const double height = pose1_.position_m[2] - p.site_from_cam1.t_m.z();
     rq.camera_height_m = height > 0.05 ? height : 0.05;
     Status st = refiner_.refine(rq, p.refine);
+    if (st.isOk() && !detail::refinementIsCertainEnough(p.refine.motion.rotation_sigma_rad,
+                                                        detail::relativeRotationSigmaRad(pose1_, pose2_),
+                                                        config_.max_refined_sigma_ratio)) {
+        st = Status(StatusCode::kDegenerate,
+                    "refine: the refined rotation is less certain than max_refined_sigma_ratio x the odometry's "
+                    "(detail: its 1-sigma, millidegrees)",
+                    static_cast<std::int64_t>(std::floor(1000.0 * kDegPerRad * p.refine.motion.rotation_sigma_rad + 0.5)));
+    }
     if (st.isOk()) {
         p.site_from_cam2 = poseOfB(p.site_from_cam1, p.refine.refined.b_from_a);  // camera 2 refined
     }

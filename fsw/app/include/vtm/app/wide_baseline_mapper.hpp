@@ -84,6 +84,11 @@ struct WideBaselineMapperConfig {
     // 1-sigma per axis of the odometry's relative rotation between the frames, radians,
     // 0..pi: the refiner's rotation prior. 0 = none (the rover's heading error is large).
     double attitude_sigma_rad = 0.0;
+    // The refinement's own rotation 1-sigma may exceed the odometry's (from the two poses'
+    // covariances, request_support.hpp) by at most this factor, else the request ends at
+    // refine (kDegenerate): a pose less certain than its prior is not published.
+    // 0 = off; 0.5..100. Not applied when the odometry states no rotation covariance.
+    double max_refined_sigma_ratio = 2.0;
     rectify::Config rectify{};       // its range limits are replaced by range_*_m
     stereo::PyramidConfig stereo = wideBaselineStereoConfig();
     terrain::TriangulationLimits limits{};  // its range limits are replaced by range_*_m
