@@ -15,6 +15,7 @@
 #include "no_heap_guard.hpp"
 #include "sim/render.hpp"
 #include "sim/terrain.hpp"
+#include "terrain_pool.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"
 
@@ -25,18 +26,7 @@ constexpr std::int32_t kW = 96;
 constexpr std::int32_t kH = 64;
 constexpr double kHfovDeg = 60.0;
 
-// One terrain at a time, built into a static pool (tests run one after another).
-const Terrain& buildTerrain(const TerrainParams& params) {
-    static std::byte pool[24U << 20U];
-    static Arena arena(pool, sizeof pool);
-    static Terrain terrain;
-    arena.reset();
-    terrain = Terrain();
-    EXPECT_LE(Terrain::storageBytes(params), sizeof pool);
-    const Status s = terrain.build(params, arena);
-    EXPECT_TRUE(s.isOk()) << s.reason();
-    return terrain;
-}
+const Terrain& buildTerrain(const TerrainParams& params) { return buildTerrainInPool(params); }
 
 TerrainParams planeParams() {
     TerrainParams p;

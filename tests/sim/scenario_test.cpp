@@ -75,10 +75,11 @@ Quat attitudeOf(const VehiclePose& p) {
 // ---- parser -------------------------------------------------------------------------------
 
 TEST(ScenarioParser, EveryShippedScenarioParses) {
-    const char* files[] = {"rover_wide_baseline.scn", "descent.scn", "traverse.scn", "test_rover_small.scn"};
+    const char* files[] = {"rover_wide_baseline.scn", "descent.scn", "traverse.scn", "test_rover_small.scn",
+                           "descent_orbital.scn"};
     const ScenarioKind kinds[] = {ScenarioKind::kRoverPair, ScenarioKind::kDescent, ScenarioKind::kTraverse,
-                                  ScenarioKind::kRoverPair};
-    for (int i = 0; i < 4; ++i) {
+                                  ScenarioKind::kRoverPair, ScenarioKind::kDescent};
+    for (int i = 0; i < 5; ++i) {
         const std::string text = readFile(std::string(VTM_SCENARIO_DIR) + "/" + files[i]);
         ASSERT_FALSE(text.empty()) << files[i];
         Scenario s;

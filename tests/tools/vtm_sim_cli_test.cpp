@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -19,6 +20,7 @@
 #include "ground_test_files.hpp"
 #include "hal/file/file_camera.hpp"
 #include "hal/file/file_odometry.hpp"
+#include "sim/orbital.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "vtm/ground/camera_model_io.hpp"
@@ -227,6 +229,68 @@ TEST(VtmSimRender, TwelveBitFramesPlayBackFromPngAndPgm) {
         ASSERT_TRUE(loaded.ok) << loaded.error;
         EXPECT_EQ(loaded.value.pixels, expected) << format;
     }
+}
+
+// A descent with [orbital]: orbital.png, orbital.geo and orbital_elevation.pfm are written;
+// the geo file's numbers are the in-process georeference, the image and the elevation the
+// in-process renderOrbital's; a bad [orbital] value exits 1 naming the key and the line.
+TEST(VtmSimRender, OrbitalViewAndItsGeoreferenceAreWrittenAsComputedInProcess) {
+    const test::TempDir dir;
+    const std::string text = slurp(std::string(VTM_SCENARIO_DIR) + "/test_descent_small.scn") +
+                             "\n[orbital]\nwidth_px 96\nheight_px 64\ncell_m 2\nbit_depth 16\ncentre_offset_m 3 -5\n";
+    const std::string scenario = dir.file("orbital.scn");
+    std::ofstream(scenario) << text;
+    const std::string out = dir.file("out");
+    const CommandRun run = vtmSim(dir, "render '" + scenario + "' '" + out + "' --frames 0");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const InProcess world(text);
+    const sim::OrbitalParams p = sim::scenarioOrbitalParams(world.scenario);
+    const sim::OrbitalGeoreference geo = sim::orbitalGeoreference(p);
+    Grey16Image image(96, 64);
+    FloatImage elevation(96, 64);
+    sim::OrbitalOutput views;
+    views.image16 = image.view();
+    views.elevation_m = elevation.view();
+    ASSERT_TRUE(sim::renderOrbital(world.terrain, p, views, nullptr).isOk());
+    const Result<Grey16Image> loaded = loadGrey16(out + "/orbital.png");
+    ASSERT_TRUE(loaded.ok) << loaded.error;
+    EXPECT_EQ(loaded.value.pixels, image.pixels);
+    const Result<FloatImage> pfm = readPfm(out + "/orbital_elevation.pfm");
+    ASSERT_TRUE(pfm.ok) << pfm.error;
+    EXPECT_EQ(pfm.value.pixels, elevation.pixels);
+    // orbital.geo: "key value..." lines after the version line.
+    std::istringstream geo_text(slurp(out + "/orbital.geo"));
+    std::string line;
+    ASSERT_TRUE(std::getline(geo_text, line));
+    EXPECT_EQ(line, "vtm-orbital-geo 1");
+    std::map<std::string, std::string> kv;
+    while (std::getline(geo_text, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        const std::size_t space = line.find(' ');
+        kv[line.substr(0, space)] = line.substr(space + 1);
+    }
+    EXPECT_EQ(std::stod(kv["north0_m"]), geo.north0_m);
+    EXPECT_EQ(std::stod(kv["east0_m"]), geo.east0_m);
+    EXPECT_EQ(std::stod(kv["cell_m"]), 2.0);
+    EXPECT_EQ(kv["width_px"], "96");
+    EXPECT_EQ(kv["height_px"], "64");
+    EXPECT_EQ(kv["axes"], "col_east row_south");
+    EXPECT_EQ(kv["modality"], "thermal");
+    EXPECT_EQ(kv["bit_depth"], "16");
+    EXPECT_EQ(kv["image"], "orbital.png");
+    // The documented centre: motion.start_m (0 0) + centre_offset_m, half the image away.
+    EXPECT_DOUBLE_EQ(geo.north0_m, 3.0 + 0.5 * 63 * 2.0);
+    EXPECT_DOUBLE_EQ(geo.east0_m, -5.0 - 0.5 * 95 * 2.0);
+    EXPECT_NE(slurp(out + "/README.md").find("orbital.geo"), std::string::npos);
+    // A bad [orbital] value: exit 1, one line naming the key and its line.
+    std::string bad_text = text;
+    bad_text.replace(bad_text.find("cell_m 2"), 8, "cell_m 0");
+    const std::string bad = dir.file("bad_orbital.scn");
+    std::ofstream(bad) << bad_text;
+    const CommandRun refused = vtmSim(dir, "render '" + bad + "' '" + dir.file("bad_out") + "'");
+    EXPECT_EQ(refused.exit_code, 1);
+    EXPECT_NE(refused.err.find("orbital.cell_m is out of range"), std::string::npos) << refused.err;
+    EXPECT_NE(refused.err.find("line "), std::string::npos) << refused.err;
 }
 
 TEST(VtmSimRender, BadInputExitsNonZeroWithOneLineNamingTheField) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "vtm/ground/exit_codes.hpp"
+#include "sim/orbital.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "sim/terrain.hpp"
@@ -209,6 +210,65 @@ bool renderOne(const World& w, const sim::ScenarioFrame& f, const std::string& o
            (f.role != sim::FrameRole::kStereoLeft || writeStereoTruth(w, f, base, format, error));
 }
 
+const char* modalityName(sim::OrbitalModality m) {
+    return m == sim::OrbitalModality::kThermal ? "thermal" : "visible";
+}
+
+// orbital.geo: the georeference of orbital.<fmt> (docs/sim-scenarios.md "Output files").
+std::string orbitalGeoText(const sim::Scenario& s, const sim::OrbitalParams& p, const std::string& image) {
+    const sim::OrbitalGeoreference geo = sim::orbitalGeoreference(p);
+    std::string t = "vtm-orbital-geo 1\n";
+    t += "# " + std::string(s.name) + ": orbital view (vtm-sim render). Pixel (col, row), (0, 0) = centre of the "
+         "north-west pixel:\n# north_m = north0_m - row * cell_m, east_m = east0_m + col * cell_m (site frame, "
+         "x north, y east, z down)\n";
+    t += "image " + image + "\n";
+    t += "north0_m " + number(geo.north0_m) + "\neast0_m " + number(geo.east0_m) + "\ncell_m " + number(geo.cell_m) +
+         "\n";
+    t += "width_px " + std::to_string(geo.width_px) + "\nheight_px " + std::to_string(geo.height_px) + "\n";
+    t += "axes col_east row_south\n";
+    t += "modality " + std::string(modalityName(p.modality)) + "\n";
+    t += "bit_depth " + std::to_string(p.bit_depth) + "\n";
+    t += "sun_azimuth_deg " + number(s.orbital.sun_azimuth_deg) + "\nsun_elevation_deg " +
+         number(s.orbital.sun_elevation_deg) + "\n";
+    t += "to_sun_site " + number(p.to_sun_site.x()) + " " + number(p.to_sun_site.y()) + " " +
+         number(p.to_sun_site.z()) + "\n";
+    if (p.modality == sim::OrbitalModality::kThermal) {
+        t += "thermal_scale_k " + number(p.thermal.scale_min_k) + " " + number(p.thermal.scale_max_k) + "\n";
+    }
+    return t;
+}
+
+// orbital.<fmt>, orbital_elevation.pfm and orbital.geo of a scenario with [orbital].
+bool renderOrbitalView(const World& w, const std::string& outdir, const std::string& format, double& seconds,
+                       sim::OrbitalStats& stats, Error& error) {
+    const sim::OrbitalParams p = sim::scenarioOrbitalParams(w.scenario);
+    const bool eight = p.bit_depth == 8;
+    ground::GreyImage img8(eight ? p.width_px : 0, eight ? p.height_px : 0);
+    ground::Grey16Image img16(eight ? 0 : p.width_px, eight ? 0 : p.height_px);
+    ground::FloatImage elevation(p.width_px, p.height_px);
+    sim::OrbitalOutput out;
+    out.image8 = eight ? img8.view() : ImageView<std::uint8_t>();
+    out.image16 = eight ? ImageView<std::uint16_t>() : img16.view();
+    out.elevation_m = elevation.view();
+    const auto start = SteadyClock::now();
+    const Status st = sim::renderOrbital(w.terrain, p, out, &stats);
+    seconds = secondsSince(start);
+    if (!st.isOk()) {
+        error = {"vtm-sim: orbital: " + std::string(st.reason())};
+        return false;
+    }
+    const std::string base = outdir + "/orbital";
+    bool ok = false;
+    if (format == "png") {
+        ok = check(eight ? ground::writePng(base + ".png", img8) : ground::writePng16(base + ".png", img16), error);
+    } else {
+        ok = check(eight ? ground::writePgm8(base + ".pgm", img8) : ground::writePgm16(base + ".pgm", img16, 65535),
+                   error);
+    }
+    return ok && check(ground::writePfm(base + "_elevation.pfm", elevation), error) &&
+           writeText(base + ".geo", orbitalGeoText(w.scenario, p, "orbital." + format), error);
+}
+
 ground::SimPose toGround(const sim::VehiclePose& p) {
     ground::SimPose g;
     g.timestamp_ns = p.timestamp_ns;
@@ -300,7 +360,13 @@ std::string readme(const World& w, const std::vector<FrameReport>& reports, cons
     r += "| `stereo_left_000_disparity_code." + format + "` | 0 visible, 1 occluded, 2 out of the right view, 3 sky |\n";
     r += "| `<camera>.frames` | hal/file FileCamera manifest |\n| `<camera>.cmod` | camera model (parseCameraModel) |\n";
     r += "| `truth.poses`, `odometry.poses` | hal/file FileOdometry pose logs, T_site_from_vehicle |\n";
-    r += "| `camera_poses.txt` | T_site_from_camera per frame |\n\n";
+    r += "| `camera_poses.txt` | T_site_from_camera per frame |\n";
+    if (w.scenario.orbital.enabled) {
+        r += "| `orbital." + format + "`, `orbital.geo`, `orbital_elevation.pfm` | orbital view (nadir, orthographic, " +
+             std::string(modalityName(w.scenario.orbital.modality)) +
+             "), its georeference, the terrain elevation at each pixel centre (m) |\n";
+    }
+    r += "\n";
     char line[256];
     std::snprintf(line, sizeof(line), "Terrain built in %.2f s.\n\n| frame | time [s] | Mpixel/s | sky px | shadowed px |\n"
                   "|---|---|---|---|---|\n", w.terrain_seconds);
@@ -360,6 +426,17 @@ int runRender(const RenderOptions& options) {
                     f.model.height_px, report.seconds,
                     static_cast<double>(f.model.width_px) * f.model.height_px / 1e6 / report.seconds);
         reports.push_back(report);
+    }
+    if (w.scenario.orbital.enabled) {
+        double seconds = 0.0;
+        sim::OrbitalStats stats;
+        if (!renderOrbitalView(w, options.outdir, options.format, seconds, stats, error)) {
+            return fail(error);
+        }
+        std::printf("orbital %s %dx%d at %.3g m/px: %.3f s (%lld shadowed sub-samples)\n",
+                    modalityName(w.scenario.orbital.modality), w.scenario.orbital.width_px,
+                    w.scenario.orbital.height_px, w.scenario.orbital.cell_m, seconds,
+                    static_cast<long long>(stats.shadowed_subsamples));
     }
     const bool ok = writePoseLogs(w, options.outdir, error) &&
                     writeCameraFiles(w, selected, options.outdir, options.format, error) &&

@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "sim/orbital.hpp"
 #include "sim/render.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/arena.hpp"
@@ -101,6 +102,28 @@ struct SensorVariation {
     double gain_variation_percent = 0.0;
 };
 
+// [orbital] (descent only): an orbital image of the same world in a second modality
+// (sim/orbital.hpp), for descent-to-orbital registration with truth. Its centre is
+// motion.start_m + centre_offset_m; the sun and the modality are its own.
+struct OrbitalScenario {
+    bool enabled = false;                  // an [orbital] section was given
+    Vec2 centre_offset_m = Vec2::Zero();   // north, east from motion.start_m
+    double cell_m = 1.0;                   // metres per pixel
+    std::int32_t width_px = 512;
+    std::int32_t height_px = 512;
+    std::int32_t subsamples = 2;           // per pixel axis
+    double sun_azimuth_deg = 250.0;        // from north towards east
+    double sun_elevation_deg = 50.0;
+    OrbitalModality modality = OrbitalModality::kThermal;
+    std::int32_t bit_depth = 8;            // 8 or 16
+    bool shadows = true;
+    double noise_fs = 0.004;               // noise sigma, fraction of full scale
+    double ambient = 0.125;                // kVisible: sky light / direct sun
+    double thermal_floor_k = 180.0;        // kThermal: ThermalParams::floor_k
+    double thermal_subsolar_k = 300.0;     // kThermal: ThermalParams::subsolar_k
+    std::uint64_t noise_seed = 1U;         // derived from seed if not given
+};
+
 struct Scenario {
     char name[kMaxScenarioNameChars + 1U] = {};
     ScenarioKind kind = ScenarioKind::kRoverPair;
@@ -116,6 +139,7 @@ struct Scenario {
     double sun_elevation_deg = 35.0;  // above the horizon
     MotionParams motion{};
     OdometryErrorModel odometry{};
+    OrbitalScenario orbital{};
 };
 
 // Parses a scenario text (docs/sim-scenarios.md). Every problem is a Status whose reason
@@ -203,6 +227,10 @@ void applyOdometryErrors(const OdometryErrorModel& model, std::uint64_t seed, co
 // all produce the same bits for the same frame.
 [[nodiscard]] FrameRequest scenarioFrameRequest(const Scenario& scenario, const Terrain& terrain,
                                                 const ScenarioFrame& frame) noexcept;
+
+// The orbital image of a scenario with an [orbital] section (the whole image; the
+// thermal scale and the sensor offset at their OrbitalParams defaults).
+[[nodiscard]] OrbitalParams scenarioOrbitalParams(const Scenario& scenario) noexcept;
 
 // ---- Terrain ----------------------------------------------------------------------
 

@@ -123,6 +123,21 @@ constexpr KeySpec kKeys[] = {
     VTM_SCENARIO_KEY(Odometry, "odometry.", "heading_drift_sigma_deg_per_m", kDouble, 0, 10, kAnyKind, kAnyModel, false, odometry.heading_drift_sigma_deg_per_m),
     VTM_SCENARIO_KEY(Odometry, "odometry.", "tilt_drift_sigma_deg_per_m", kDouble, 0, 10, kAnyKind, kAnyModel, false, odometry.tilt_drift_sigma_deg_per_m),
     VTM_SCENARIO_KEY(Odometry, "odometry.", "random_walk_m_per_sqrt_m", kDouble, 0, 10, kAnyKind, kAnyModel, false, odometry.random_walk_m_per_sqrt_m),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "cell_m", kDouble, 0.01, 100, kDescentOnly, kAnyModel, false, orbital.cell_m),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "width_px", kInt32, 16, 4096, kDescentOnly, kAnyModel, false, orbital.width_px),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "height_px", kInt32, 16, 4096, kDescentOnly, kAnyModel, false, orbital.height_px),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "subsamples", kInt32, 1, 4, kDescentOnly, kAnyModel, false, orbital.subsamples),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "centre_offset_m", kVec2, -1e5, 1e5, kDescentOnly, kAnyModel, false, orbital.centre_offset_m),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "sun_azimuth_deg", kDouble, 0, 360, kDescentOnly, kAnyModel, false, orbital.sun_azimuth_deg),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "sun_elevation_deg", kDouble, 1, 90, kDescentOnly, kAnyModel, false, orbital.sun_elevation_deg),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "modality", kModality, 0, 0, kDescentOnly, kAnyModel, false, orbital.modality),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "bit_depth", kInt32, 8, 16, kDescentOnly, kAnyModel, false, orbital.bit_depth),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "shadows", kBool, 0, 0, kDescentOnly, kAnyModel, false, orbital.shadows),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "noise_fs", kDouble, 0, 0.5, kDescentOnly, kAnyModel, false, orbital.noise_fs),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "noise_seed", kUint64, 0, 0, kDescentOnly, kAnyModel, false, orbital.noise_seed),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "ambient", kDouble, 0, 10, kDescentOnly, kAnyModel, false, orbital.ambient),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "thermal_floor_k", kDouble, 1, 1000, kDescentOnly, kAnyModel, false, orbital.thermal_floor_k),
+    VTM_SCENARIO_KEY(Orbital, "orbital.", "thermal_subsolar_k", kDouble, 1, 2000, kDescentOnly, kAnyModel, false, orbital.thermal_subsolar_k),
 };
 
 #undef VTM_SCENARIO_KEY

@@ -22,12 +22,13 @@ enum class ValueType : std::uint8_t {
     kKind,        // rover_pair | descent | traverse
     kModel,       // pinhole | cahv | cahvor
     kTerrainKind, // mars | plane | dome
+    kModality,    // visible | thermal (OrbitalModality)
     kVec2,        // two finite numbers, each in [lo, hi]
     kVec3,        // three finite numbers, each in [lo, hi]
     kArray3,      // three finite numbers (double[3] member), each in [lo, hi]
 };
 
-enum class Section : std::uint8_t { kTop, kTerrain, kCamera, kSensor, kLighting, kMotion, kOdometry };
+enum class Section : std::uint8_t { kTop, kTerrain, kCamera, kSensor, kLighting, kMotion, kOdometry, kOrbital };
 
 // Bit masks of the scenario kinds a key belongs to.
 constexpr std::uint8_t kAnyKind = 0x7U;

@@ -23,7 +23,8 @@ struct SectionName {
 };
 constexpr SectionName kSections[] = {{"terrain", Section::kTerrain},   {"camera", Section::kCamera},
                                      {"sensor", Section::kSensor},     {"lighting", Section::kLighting},
-                                     {"motion", Section::kMotion},     {"odometry", Section::kOdometry}};
+                                     {"motion", Section::kMotion},     {"odometry", Section::kOdometry},
+                                     {"orbital", Section::kOrbital}};
 
 struct Tokens {
     std::string_view token[kMaxTokens];
@@ -67,7 +68,7 @@ Status parseSectionHeader(const Tokens& t, Section& section, std::int32_t line) 
         }
     }
     return Status(StatusCode::kCorruptData,
-                  "scenario: unknown [section] (terrain, camera, sensor, lighting, motion, odometry)", line);
+                  "scenario: unknown [section] (terrain, camera, sensor, lighting, motion, odometry, orbital)", line);
 }
 
 const char* unknownKeyReason(Section section) noexcept {
@@ -78,6 +79,7 @@ const char* unknownKeyReason(Section section) noexcept {
         case Section::kSensor: return "scenario: unknown key in [sensor]";
         case Section::kLighting: return "scenario: unknown key in [lighting]";
         case Section::kMotion: return "scenario: unknown key in [motion]";
+        case Section::kOrbital: return "scenario: unknown key in [orbital]";
         default: return "scenario: unknown key in [odometry]";
     }
 }
@@ -85,7 +87,20 @@ const char* unknownKeyReason(Section section) noexcept {
 struct ParseState {
     Section section = Section::kTop;
     std::int32_t line_of[kMaxKeys] = {};  // line where each table key was given, 0 = not given
+    std::int32_t orbital_line = 0;        // line of the [orbital] header, 0 = none
 };
+
+// A section header; [orbital] also switches the orbital image on (once).
+Status enterSection(const Tokens& t, ParseState& state, std::int32_t line) noexcept {
+    VTM_RETURN_IF_ERROR(parseSectionHeader(t, state.section, line));
+    if (state.section == Section::kOrbital) {
+        if (state.orbital_line != 0) {
+            return Status(StatusCode::kCorruptData, "scenario: [orbital] given twice", line);
+        }
+        state.orbital_line = line;
+    }
+    return Status::ok();
+}
 
 Status parseLine(std::string_view text, std::int32_t line, ParseState& state, Scenario& s) noexcept {
     const Tokens t = tokenize(text);
@@ -93,7 +108,7 @@ Status parseLine(std::string_view text, std::int32_t line, ParseState& state, Sc
         return Status::ok();
     }
     if (t.token[0][0] == '[') {
-        return parseSectionHeader(t, state.section, line);
+        return enterSection(t, state, line);
     }
     std::size_t key_count = 0U;
     const KeySpec* keys = detail::scenarioKeys(key_count);
@@ -139,6 +154,10 @@ Status checkPresence(const ParseState& state, const Scenario& s) noexcept {
         if (keys[k].required && state.line_of[k] == 0) {
             return Status(StatusCode::kInvalidConfig, keys[k].missing, 0);
         }
+    }
+    if (state.orbital_line != 0 && s.kind != ScenarioKind::kDescent) {
+        return Status(StatusCode::kInvalidConfig, "scenario: [orbital] belongs to descent scenarios only",
+                      state.orbital_line);
     }
     const std::uint8_t kind = detail::kindBit(s.kind);
     const std::uint8_t model = modelBit(s.camera.kind);
@@ -200,12 +219,33 @@ void deriveSeeds(const ParseState& state, Scenario& s) noexcept {
     std::uint64_t mix = s.seed;
     const std::uint64_t terrain_seed = splitMix64(mix);
     const std::uint64_t noise_seed = splitMix64(mix);
+    const std::uint64_t orbital_seed = splitMix64(mix);
     if (state.line_of[keyIndex(Section::kTerrain, "seed")] == 0) {
         s.terrain.seed = terrain_seed;
     }
     if (state.line_of[keyIndex(Section::kSensor, "noise_seed")] == 0) {
         s.sensor.noise_seed = noise_seed;
     }
+    if (state.line_of[keyIndex(Section::kOrbital, "noise_seed")] == 0) {
+        s.orbital.noise_seed = orbital_seed;
+    }
+}
+
+// The [orbital] section's combinations of fields, then the renderer's own checks.
+Status validateOrbitalScenario(const Scenario& s) noexcept {
+    if (!s.orbital.enabled) {
+        return Status::ok();
+    }
+    if (s.kind != ScenarioKind::kDescent) {
+        return Status(StatusCode::kInvalidConfig, "scenario: [orbital] belongs to descent scenarios only");
+    }
+    if (s.orbital.bit_depth != 8 && s.orbital.bit_depth != 16) {
+        return Status(StatusCode::kInvalidConfig, "scenario: orbital.bit_depth must be 8 or 16");
+    }
+    if (!(s.orbital.thermal_subsolar_k > s.orbital.thermal_floor_k)) {
+        return Status(StatusCode::kInvalidConfig, "scenario: orbital.thermal_subsolar_k must exceed orbital.thermal_floor_k");
+    }
+    return validateOrbitalParams(scenarioOrbitalParams(s));
 }
 
 Status parseLines(std::string_view text, ParseState& state, Scenario& s) noexcept {
@@ -243,8 +283,12 @@ Status parseScenario(std::string_view text, Scenario& out) noexcept {
     Scenario s;
     s.terrain = defaultMarsTerrainParams();
     ParseState state;
+    std::size_t key_count = 0U;
+    (void)detail::scenarioKeys(key_count);
+    VTM_ASSERT(key_count <= kMaxKeys);
     VTM_RETURN_IF_ERROR(parseLines(text, state, s));
     VTM_RETURN_IF_ERROR(checkPresence(state, s));
+    s.orbital.enabled = state.orbital_line != 0;
     VTM_RETURN_IF_ERROR(finishCamera(state, s));
     deriveSeeds(state, s);
     s.lighting.to_sun_site = sunDirection(s.sun_azimuth_deg, s.sun_elevation_deg);
@@ -279,7 +323,8 @@ Status validateScenario(const Scenario& s) noexcept {
     VTM_RETURN_IF_ERROR(s.terrain.validate());
     VTM_RETURN_IF_ERROR(validateCameraModel(s.camera));
     VTM_RETURN_IF_ERROR(validateSensorParams(s.sensor));
-    return validateLighting(s.lighting);
+    VTM_RETURN_IF_ERROR(validateLighting(s.lighting));
+    return validateOrbitalScenario(s);
 }
 
 }  // namespace vtm::sim

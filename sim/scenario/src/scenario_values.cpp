@@ -73,6 +73,8 @@ constexpr WordValue<CameraModelKind> kModelWords[] = {
     {"pinhole", CameraModelKind::kPinholeBrown}, {"cahv", CameraModelKind::kCahv}, {"cahvor", CameraModelKind::kCahvor}};
 constexpr WordValue<TerrainKind> kTerrainWords[] = {
     {"mars", TerrainKind::kMars}, {"plane", TerrainKind::kPlane}, {"dome", TerrainKind::kDome}};
+constexpr WordValue<OrbitalModality> kModalityWords[] = {
+    {"visible", OrbitalModality::kVisible}, {"thermal", OrbitalModality::kThermal}};
 constexpr WordValue<bool> kBoolWords[] = {{"true", true}, {"false", false}};
 
 bool setName(std::string_view token, char* name) noexcept {
@@ -177,6 +179,7 @@ Status setValue(const KeySpec& spec, const std::string_view* tokens, std::size_t
         case ValueType::kKind: ok = parseWord(tokens[0], kKindWords, *static_cast<ScenarioKind*>(field)); break;
         case ValueType::kModel: ok = parseWord(tokens[0], kModelWords, *static_cast<CameraModelKind*>(field)); break;
         case ValueType::kTerrainKind: ok = parseWord(tokens[0], kTerrainWords, *static_cast<TerrainKind*>(field)); break;
+        case ValueType::kModality: ok = parseWord(tokens[0], kModalityWords, *static_cast<OrbitalModality*>(field)); break;
         default: {
             double values[3] = {0.0, 0.0, 0.0};
             VTM_RETURN_IF_ERROR(parseNumbers(spec, tokens, values, line));
