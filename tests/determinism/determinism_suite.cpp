@@ -6,10 +6,13 @@
 #include "vtm/core/image.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/core/random.hpp"
+#include "sim/orbital.hpp"
 #include "sim/render.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/descent/plane_sweep.hpp"
+#include "vtm/entropy/local_entropy.hpp"
+#include "vtm/entropy/registration.hpp"
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
@@ -284,6 +287,37 @@ std::uint64_t stereoSection() noexcept {
     return h.value();
 }
 
+// The orbital view of the same terrain (sim/orbital.hpp): thermal 8-bit and visible 16-bit,
+// 2 x 2 sub-samples, cast shadows from a low sun, noise on, with the elevation truth.
+void hashOrbitalViews(const sim::Terrain& terrain, Hasher& h) noexcept {
+    constexpr std::int32_t kOw = 40;
+    constexpr std::int32_t kOh = 32;
+    static std::uint8_t image8[kOw * kOh];
+    static std::uint16_t image16[kOw * kOh];
+    static float elevation[kOw * kOh];
+    sim::OrbitalParams p;
+    p.cell_m = 0.1;
+    p.width_px = kOw;
+    p.height_px = kOh;
+    p.to_sun_site = Vec3(-0.3, 0.8, -0.52).normalized();
+    p.noise_fs = 0.01;
+    p.noise_seed = 5U;
+    sim::OrbitalOutput out;
+    out.image8 = ImageView<std::uint8_t>(image8, kOw, kOh);
+    out.image16 = ImageView<std::uint16_t>(image16, kOw, kOh);
+    out.elevation_m = ImageView<float>(elevation, kOw, kOh);
+    const sim::OrbitalModality modalities[2] = {sim::OrbitalModality::kThermal, sim::OrbitalModality::kVisible};
+    for (int m = 0; m < 2; ++m) {
+        p.modality = modalities[m];
+        p.bit_depth = m == 0 ? 8 : 16;
+        h.addI64(static_cast<std::int64_t>(sim::renderOrbital(terrain, p, out, nullptr).code()));
+        for (std::int32_t i = 0; i < kOw * kOh; ++i) {
+            h.addI64(m == 0 ? image8[i] : image16[i]);
+            h.addFloat(elevation[i]);
+        }
+    }
+}
+
 // The simulated world (sim/): a small Mars terrain (its content hash), a 64 x 48 frame
 // through a pinhole and a CAHVOR camera with shot/read noise and cast shadows (image and
 // range truth), and the true disparity of a rectified pair.
@@ -342,6 +376,7 @@ std::uint64_t simSection() noexcept {
         h.addFloat(range[i]);
         h.addI64(code[i]);
     }
+    hashOrbitalViews(terrain, h);
     return h.value();
 }
 
@@ -713,6 +748,91 @@ std::uint64_t descentSection() noexcept {
     return h.value();
 }
 
+// Local entropy and multi-modal registration (issue 24) on an integer-generated 96 x 96
+// scene: flat and noisy boxes; image 2 is image 1 shifted by (5, -3) px seen through a
+// folding (non-monotonic) response. The entropy images (plain and equalised through the
+// registration) and the registration's transform, scores and counts.
+std::uint64_t entropySection() noexcept {
+    constexpr std::int32_t kD = 96;
+    constexpr std::int32_t kWorldSide = 128;
+    static std::uint8_t world[kWorldSide * kWorldSide];
+    for (std::int32_t y = 0; y < kWorldSide; ++y) {
+        for (std::int32_t x = 0; x < kWorldSide; ++x) {
+            world[y * kWorldSide + x] = static_cast<std::uint8_t>(80 + (x + 2 * y) / 8);
+        }
+    }
+    for (std::uint64_t k = 0; k < 24U; ++k) {
+        const std::uint64_t h = mixBits64(k + 99U);
+        const auto cx = static_cast<std::int32_t>(h % kWorldSide);
+        const auto cy = static_cast<std::int32_t>((h >> 8U) % kWorldSide);
+        const auto r = static_cast<std::int32_t>(5U + (h >> 16U) % 12U);
+        const auto level = static_cast<std::int32_t>(30U + (h >> 24U) % 190U);
+        const auto amplitude = static_cast<std::int32_t>((h >> 32U) % 4U) * 20;
+        for (std::int32_t y = cy - r; y <= cy + r; ++y) {
+            for (std::int32_t x = cx - r; x <= cx + r; ++x) {
+                if (x >= 0 && y >= 0 && x < kWorldSide && y < kWorldSide) {
+                    const auto n = static_cast<std::int32_t>(mixBits64(static_cast<std::uint64_t>(y * kWorldSide + x) + k * 7919U) % 256U);
+                    const std::int32_t v = level + (n - 128) * amplitude / 128;
+                    world[y * kWorldSide + x] = static_cast<std::uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+                }
+            }
+        }
+    }
+    static std::uint8_t image1[kD * kD];
+    static std::uint8_t image2[kD * kD];
+    for (std::int32_t y = 0; y < kD; ++y) {
+        for (std::int32_t x = 0; x < kD; ++x) {
+            image1[y * kD + x] = world[(y + 16) * kWorldSide + x + 16];
+            const std::int32_t t = (world[(y + 16 + 3) * kWorldSide + x + 16 - 5] * 3) % 510;
+            image2[y * kD + x] = static_cast<std::uint8_t>(t < 255 ? t : 509 - t);
+        }
+    }
+    Hasher h;
+    entropy::RegistrationConfig c;
+    c.max_width = kD;
+    c.max_height = kD;
+    c.levels = 3;
+    c.entropy.window = 7;
+    c.entropy.bins = 16;
+    static std::byte pool[256U << 10U];
+    Arena arena(pool, sizeof pool);
+    static entropy::LocalEntropy plain;
+    h.addI64(static_cast<std::int64_t>(plain.init(c.entropy, arena).code()));
+    static std::uint8_t e[kD * kD];
+    h.addI64(static_cast<std::int64_t>(
+        plain.compute(ImageView<const std::uint8_t>(image2, kD, kD), ImageView<std::uint8_t>(e, kD, kD)).code()));
+    for (const std::uint8_t v : e) {
+        h.addI64(v);
+    }
+    static entropy::EntropyRegistration reg;
+    h.addI64(static_cast<std::int64_t>(reg.init(c, arena).code()));
+    entropy::RegistrationRequest q;
+    q.angle_min_rad = -0.3;
+    q.angle_max_rad = 0.3;
+    q.scale_min = 0.9;
+    q.scale_max = 1.1;
+    q.shift_range_px = 8.0;
+    entropy::Registration r;
+    h.addI64(static_cast<std::int64_t>(reg.registerImages(ImageView<const std::uint8_t>(image1, kD, kD),
+                                                          ImageView<const std::uint8_t>(image2, kD, kD), q, r)
+                                           .code()));
+    const ImageView<const std::uint8_t> m1 = reg.matchedImage1();
+    for (std::int32_t y = 0; y < m1.height(); ++y) {
+        for (std::int32_t x = 0; x < m1.width(); ++x) {
+            h.addI64(m1.at(x, y));
+        }
+    }
+    for (std::int32_t i = 0; i < 6; ++i) {
+        h.addDouble(r.image2_from_image1(i / 3, i % 3));
+    }
+    h.addDouble(r.ncc);
+    h.addDouble(r.second_ncc);
+    h.addDouble(r.overlap);
+    h.addI64(r.coarse_scored);
+    h.addI64(r.fine_scored);
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -726,6 +846,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kSim: return "sim";
         case Section::kWideBaseline: return "wide_baseline";
         case Section::kDescent: return "descent";
+        case Section::kEntropy: return "entropy";
     }
     return "unknown";
 }
@@ -741,6 +862,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kSim: return simSection();
         case Section::kWideBaseline: return wideBaselineSection();
         case Section::kDescent: return descentSection();
+        case Section::kEntropy: return entropySection();
     }
     return 0U;
 }

@@ -12,7 +12,8 @@
 //     CAHVOR, noise and shadows on), its range truth and a rectified pair's disparity;
 //   - the wide-baseline front end on a small rendered rover pair (features, matches,
 //     refined motion, rectification tables and images) and triangulation into a height map;
-//   - the descent plane sweep on a rendered 12-bit nadir pair (depth, score, reason).
+//   - the descent plane sweep on a rendered 12-bit nadir pair (depth, score, reason);
+//   - local-entropy images and a multi-modal registration on a generated pair.
 #pragma once
 
 #include <cstdint>
@@ -29,8 +30,9 @@ enum class Section : std::uint8_t {
     kSim = 6,
     kWideBaseline = 7,
     kDescent = 8,
+    kEntropy = 9,
 };
-constexpr int kSectionCount = 9;
+constexpr int kSectionCount = 10;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;
