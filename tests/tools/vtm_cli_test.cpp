@@ -279,5 +279,81 @@ TEST(VtmCli, EvalMiddleburyGroundTruthAgainstItself) {
     EXPECT_NE(r.out.find("left-right check of disp2.png vs disp6.png"), std::string::npos) << r.out;
 }
 
+// `vtm register` (docs/entropy.md "Command line") on real optical-infrared pairs of SRIF
+// (../shared/data/srif): the printed G maps image 1's corners within 3 px of the data
+// set's ground truth (gt_N.txt, the same convention), for two pairs the module registers
+// (its rate over all pairs is SrifEvaluation's); --out holds the same G and the entropy
+// images are written at the images' size.
+std::vector<double> matrixRows(const std::string& text, const std::string& tag) {
+    std::vector<double> g;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream l(line);
+        std::string head;
+        l >> head;
+        if (tag.empty() || head == tag) {
+            double v = 0.0;
+            if (tag.empty()) {
+                g.push_back(std::stod(head));
+            }
+            while (l >> v) {
+                g.push_back(v);
+            }
+        }
+    }
+    return g;
+}
+
+TEST(VtmCli, RegisterFindsTheKnownTransformOfRealOpticalInfraredPairs) {
+    const std::string dir_srif = test::testDataDir() + "/srif/optical-infrared/";
+    if (!loadGrey8(dir_srif + "pair1_1.jpg").ok) {
+        GTEST_SKIP() << "no SRIF data under " << dir_srif;
+    }
+    for (const int n : {1, 3}) {
+        test::TempDir dir;
+        const std::string pair = dir_srif + "pair" + std::to_string(n);
+        const CommandRun r = vtm(dir, "register '" + pair + "_1.jpg' '" + pair + "_2.jpg' --rotation=-96:6 --scale 0.9:1.1 "
+                                      "--shift-range 8 --out '" + dir.file("g.txt") + "' --entropy1 '" + dir.file("e1.png") +
+                                      "' --entropy2 '" + dir.file("e2.png") + "'");
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        const std::vector<double> g = matrixRows(r.out, "G");
+        const std::vector<double> truth = matrixRows(slurp(dir_srif + "gt_" + std::to_string(n) + ".txt"), "");
+        ASSERT_EQ(g.size(), 6U) << r.out;
+        ASSERT_EQ(truth.size(), 6U);
+        for (const double x : {0.0, 255.0}) {
+            for (const double y : {0.0, 255.0}) {
+                const double dx = (g[0] - truth[0]) * x + (g[1] - truth[1]) * y + (g[2] - truth[2]);
+                const double dy = (g[3] - truth[3]) * x + (g[4] - truth[4]) * y + (g[5] - truth[5]);
+                EXPECT_LT(std::hypot(dx, dy), 3.0) << "pair " << n << " corner " << x << "," << y;
+            }
+        }
+        EXPECT_EQ(matrixRows(slurp(dir.file("g.txt")), "G"), g);
+        const Result<GreyImage> e1 = loadGrey8(dir.file("e1.png"));
+        ASSERT_TRUE(e1.ok) << e1.error;
+        EXPECT_EQ(e1.value.width, 256);
+        EXPECT_EQ(e1.value.height, 256);
+    }
+}
+
+// No answer is a named refusal (a flat image has no entropy to match); bad ranges and
+// missing files are one line naming the option or the file.
+TEST(VtmCli, RegisterRefusesWithOneLineNamingTheInput) {
+    test::TempDir dir;
+    GreyImage flat(64, 64, 1, 120);
+    GreyImage texture(64, 64);
+    for (std::size_t i = 0; i < texture.pixels.size(); ++i) {
+        texture.pixels[i] = static_cast<std::uint8_t>((i * 2654435761U) >> 24U);
+    }
+    ASSERT_TRUE(writePng(dir.file("flat.png"), flat).ok);
+    ASSERT_TRUE(writePng(dir.file("texture.png"), texture).ok);
+    const std::string both = "'" + dir.file("texture.png") + "' '" + dir.file("flat.png") + "'";
+    EXPECT_TRUE(failsWith(vtm(dir, "register " + both), 1, "no registration"));
+    EXPECT_TRUE(failsWith(vtm(dir, "register " + both + " --rotation 5:-5"), 2, "--rotation '5:-5'"));
+    EXPECT_TRUE(failsWith(vtm(dir, "register " + both + " --scale abc"), 2, "--scale 'abc'"));
+    EXPECT_TRUE(failsWith(vtm(dir, "register '" + dir.file("missing.png") + "' '" + dir.file("flat.png") + "'"),
+                          1, "missing.png"));
+}
+
 }  // namespace
 }  // namespace vtm::ground

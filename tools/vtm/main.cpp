@@ -6,6 +6,7 @@
 //   vtm refine     refined relative motion of a wide-baseline pair (wide_baseline_command.hpp)
 //   vtm rectify    rectified pair from two images and their poses (wide_baseline_command.hpp)
 //   vtm descent    elevation map from two descent images (descent_command.hpp)
+//   vtm register   similarity between two images of different sensors (register_command.hpp)
 //   vtm eval       accuracy of a disparity map against ground truth (eval_command.hpp)
 //   vtm run        fly a simulated mission in process: products and report (run_command.hpp)
 // docs/tools.md describes the commands, the file formats and the exit codes.
@@ -22,6 +23,7 @@
 #include "stereo_command.hpp"
 #include "wide_baseline_command.hpp"
 #include "descent_command.hpp"
+#include "register_command.hpp"
 #include "run_command.hpp"
 
 namespace {
@@ -98,6 +100,8 @@ int main(int argc, char** argv) {
     CLI::App* rectify = vtm::tools::addRectifyCommand(app, rectify_options);
     vtm::tools::DescentOptions descent_options;
     CLI::App* descent = vtm::tools::addDescentCommand(app, descent_options);
+    vtm::tools::RegisterOptions register_options;
+    CLI::App* registration = vtm::tools::addRegisterCommand(app, register_options);
     vtm::tools::EvalOptions eval_options;
     CLI::App* eval = vtm::tools::addEvalCommand(app, eval_options);
     vtm::tools::RunOptions run_options;
@@ -131,6 +135,9 @@ int main(int argc, char** argv) {
     }
     if (rectify->parsed()) {
         return vtm::tools::runRectify(rectify_options);
+    }
+    if (registration->parsed()) {
+        return vtm::tools::runRegister(register_options);
     }
     if (descent->parsed()) {
         return vtm::tools::runDescent(descent_options);

@@ -1,0 +1,153 @@
+#include "register_command.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "vtm/core/arena.hpp"
+#include "vtm/entropy/registration.hpp"
+#include "vtm/ground/exit_codes.hpp"
+#include "vtm/ground/image_io.hpp"
+
+namespace vtm::tools {
+namespace {
+
+constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+
+int fail(int code, const std::string& message) {
+    std::fprintf(stderr, "vtm register: %s\n", message.c_str());
+    return code;
+}
+
+// "" or the error for OPTION 'A:B' (two finite numbers, A <= B unless any order is allowed).
+std::string parsePair(const std::string& option, const std::string& text, bool ordered, double& a, double& b) {
+    const std::size_t colon = text.find(':');
+    if (colon != std::string::npos) {
+        const std::string sa = text.substr(0, colon);
+        const std::string sb = text.substr(colon + 1);
+        char* end1 = nullptr;
+        char* end2 = nullptr;
+        a = std::strtod(sa.c_str(), &end1);
+        b = std::strtod(sb.c_str(), &end2);
+        if (!sa.empty() && !sb.empty() && *end1 == '\0' && *end2 == '\0' && std::isfinite(a) && std::isfinite(b) &&
+            (!ordered || a <= b)) {
+            return "";
+        }
+    }
+    return option + " '" + text + "': expected " + (ordered ? "MIN:MAX" : "X:Y") + " (two numbers" +
+           (ordered ? ", MIN <= MAX" : "") + ")";
+}
+
+std::string requestOf(const RegisterOptions& o, entropy::RegistrationRequest& r) {
+    double lo = 0.0, hi = 0.0;
+    std::string e = parsePair("--rotation", o.rotation, true, lo, hi);
+    if (!e.empty()) return e;
+    r.angle_min_rad = lo * kRadPerDeg;
+    r.angle_max_rad = hi * kRadPerDeg;
+    e = parsePair("--scale", o.scale, true, lo, hi);
+    if (!e.empty()) return e;
+    r.scale_min = lo;
+    r.scale_max = hi;
+    e = parsePair("--shift", o.shift, false, lo, hi);
+    if (!e.empty()) return e;
+    r.shift_x_px = lo;
+    r.shift_y_px = hi;
+    r.shift_range_px = o.shift_range_px;
+    return "";
+}
+
+// The matched images (entropy, or grey levels with --intensity) as PNG files.
+std::string writeMatched(const RegisterOptions& o, const entropy::EntropyRegistration& reg) {
+    const std::string* paths[2] = {&o.entropy1_png, &o.entropy2_png};
+    for (int i = 0; i < 2; ++i) {
+        if (paths[i]->empty()) continue;
+        const ImageView<const std::uint8_t> v = i == 0 ? reg.matchedImage1() : reg.matchedImage2();
+        ground::GreyImage img(v.width(), v.height());
+        for (std::int32_t y = 0; y < v.height(); ++y) {
+            std::copy(v.row(y), v.row(y) + v.width(), img.pixels.begin() + static_cast<std::ptrdiff_t>(y) * v.width());
+        }
+        const ground::Outcome w = ground::writePng(*paths[i], img);
+        if (!w.ok) return w.error;
+    }
+    return "";
+}
+
+std::string report(const RegisterOptions& o, const entropy::Registration& r, const Status& s) {
+    char b[1024];
+    std::snprintf(b, sizeof b,
+                  "# vtm register: %s -> %s (%s)\n# [x2 y2]^T = G [x1 y1 1]^T, pixels, (0,0) = centre of the top-left pixel\n"
+                  "G %.9g %.9g %.9g\nG %.9g %.9g %.9g\nangle_deg %.6f\nscale %.6f\nshift_px %.4f %.4f\nncc %.4f\n"
+                  "second_ncc %.4f\noverlap %.4f\nstatus %s\n",
+                  o.image1.c_str(), o.image2.c_str(), o.intensity ? "intensity" : "entropy", r.image2_from_image1(0, 0),
+                  r.image2_from_image1(0, 1), r.image2_from_image1(0, 2), r.image2_from_image1(1, 0),
+                  r.image2_from_image1(1, 1), r.image2_from_image1(1, 2), r.angle_rad / kRadPerDeg, r.scale,
+                  r.shift_x_px, r.shift_y_px, r.ncc, r.second_ncc, r.overlap, s.isOk() ? "registered" : s.reason());
+    return b;
+}
+
+}  // namespace
+
+CLI::App* addRegisterCommand(CLI::App& app, RegisterOptions& o) {
+    CLI::App* cmd = app.add_subcommand(
+        "register", "register two images of different sensors (local entropy, flight module): similarity 1 -> 2");
+    cmd->add_option("IMAGE1", o.image1, "first image (8-bit PNG, PGM, JPEG or BMP; colour becomes grey)")->required();
+    cmd->add_option("IMAGE2", o.image2, "second image")->required();
+    cmd->add_option("--rotation", o.rotation, "rotation searched, MIN:MAX degrees, +x towards +y (default -30:30)");
+    cmd->add_option("--scale", o.scale, "scale searched, MIN:MAX (default 0.8:1.25)");
+    cmd->add_option("--shift", o.shift,
+                    "expected shift X:Y px: image 1's centre in image 2 minus image 2's centre (default 0:0)");
+    cmd->add_option("--shift-range", o.shift_range_px, "half-width of the shifts searched around it, px (default 16)");
+    cmd->add_flag("--intensity", o.intensity, "match grey levels instead of entropy images (one sensor)");
+    cmd->add_option("--out", o.out, "write G and the figures (text)");
+    cmd->add_option("--entropy1", o.entropy1_png, "write image 1's matched (entropy) image, PNG");
+    cmd->add_option("--entropy2", o.entropy2_png, "write image 2's matched (entropy) image, PNG");
+    return cmd;
+}
+
+int runRegister(const RegisterOptions& o) {
+    entropy::RegistrationRequest request;
+    const std::string bad = requestOf(o, request);
+    if (!bad.empty()) return fail(kExitUsageError, bad);
+    const ground::Result<ground::GreyImage> a = ground::loadGrey8(o.image1);
+    if (!a.ok) return fail(kExitInputError, a.error);
+    const ground::Result<ground::GreyImage> b = ground::loadGrey8(o.image2);
+    if (!b.ok) return fail(kExitInputError, b.error);
+    entropy::RegistrationConfig c;
+    c.max_width = std::max(a.value.width, b.value.width);
+    c.max_height = std::max(a.value.height, b.value.height);
+    c.representation = o.intensity ? entropy::Representation::kIntensity : entropy::Representation::kEntropy;
+    const Status valid = c.validate();
+    if (!valid.isOk()) {
+        return fail(kExitInputError, o.image1 + ", " + o.image2 + ": " + valid.reason() + " (" +
+                                         std::to_string(valid.detail()) + ")");
+    }
+    std::vector<std::byte> pool(entropy::EntropyRegistration::workspaceBytes(c));
+    Arena arena(pool.data(), pool.size());
+    entropy::EntropyRegistration reg;
+    const Status init = reg.init(c, arena);
+    if (!init.isOk()) return fail(kExitInputError, std::string("EntropyRegistration::init: ") + init.reason());
+    entropy::Registration r;
+    const Status s = reg.registerImages(a.value.view(), b.value.view(), request, r);
+    if (s.code() == StatusCode::kInvalidArgument || s.code() == StatusCode::kSizeMismatch) {
+        return fail(kExitInputError, std::string(s.reason()) + " (" + o.image1 + ", " + o.image2 + ")");
+    }
+    const std::string text = report(o, r, s);
+    std::fputs(text.c_str(), stdout);
+    if (!o.out.empty()) {
+        FILE* f = std::fopen(o.out.c_str(), "w");
+        if (f == nullptr || std::fputs(text.c_str(), f) < 0 || std::fclose(f) != 0) {
+            return fail(kExitInputError, o.out + ": cannot write");
+        }
+    }
+    const std::string written = writeMatched(o, reg);
+    if (!written.empty()) return fail(kExitInputError, written);
+    if (!s.isOk()) {
+        return fail(kExitInputError, std::string("no registration: ") + s.reason() + " (" + o.image1 + ", " +
+                                         o.image2 + ")");
+    }
+    return kExitOk;
+}
+
+}  // namespace vtm::tools
