@@ -1,4 +1,5 @@
 #include "descent_command.hpp"
+#include "option_pair.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -39,24 +40,6 @@ struct Inputs {
     descent::Config config;
 };
 
-// "" or the error for --depth MIN:MAX (metres).
-std::string parseDepthRange(const std::string& text, double& lo, double& hi) {
-    const std::size_t colon = text.find(':');
-    char* end1 = nullptr;
-    char* end2 = nullptr;
-    if (colon != std::string::npos) {
-        const std::string a = text.substr(0, colon);
-        const std::string b = text.substr(colon + 1);
-        lo = std::strtod(a.c_str(), &end1);
-        hi = std::strtod(b.c_str(), &end2);
-        if (!a.empty() && !b.empty() && *end1 == '\0' && *end2 == '\0' && std::isfinite(lo) && std::isfinite(hi) &&
-            lo > 0.0 && hi > lo) {
-            return "";
-        }
-    }
-    return "--depth '" + text + "': expected MIN:MAX in metres with 0 < MIN < MAX, e.g. 80:130";
-}
-
 std::string loadInputs(const DescentOptions& o, Inputs& in) {
     auto i1 = ground::loadGrey16(o.image1);
     if (!i1.ok) return i1.error;
@@ -90,7 +73,8 @@ std::string makeConfig(const DescentOptions& o, Inputs& in) {
     }
     c.score = o.score == "ncc" ? descent::Score::kNcc : descent::Score::kSad;
     if (!o.depth_range.empty()) {
-        const std::string e = parseDepthRange(o.depth_range, c.depth_min_m, c.depth_max_m);
+        const std::string e = cli::parseOptionPair("--depth", o.depth_range, cli::PairRule::kPositiveIncreasing, "in metres", "80:130",
+                                                    c.depth_min_m, c.depth_max_m);
         if (!e.empty()) return e;
     } else {
         // Height of camera 1 above the site datum (elevation 0), +-30 %.

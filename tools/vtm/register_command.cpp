@@ -1,4 +1,5 @@
 #include "register_command.hpp"
+#include "option_pair.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,36 +22,17 @@ int fail(int code, const std::string& message) {
     return code;
 }
 
-// "" or the error for OPTION 'A:B' (two finite numbers, A <= B unless any order is allowed).
-std::string parsePair(const std::string& option, const std::string& text, bool ordered, double& a, double& b) {
-    const std::size_t colon = text.find(':');
-    if (colon != std::string::npos) {
-        const std::string sa = text.substr(0, colon);
-        const std::string sb = text.substr(colon + 1);
-        char* end1 = nullptr;
-        char* end2 = nullptr;
-        a = std::strtod(sa.c_str(), &end1);
-        b = std::strtod(sb.c_str(), &end2);
-        if (!sa.empty() && !sb.empty() && *end1 == '\0' && *end2 == '\0' && std::isfinite(a) && std::isfinite(b) &&
-            (!ordered || a <= b)) {
-            return "";
-        }
-    }
-    return option + " '" + text + "': expected " + (ordered ? "MIN:MAX" : "X:Y") + " (two numbers" +
-           (ordered ? ", MIN <= MAX" : "") + ")";
-}
-
 std::string requestOf(const RegisterOptions& o, entropy::RegistrationRequest& r) {
     double lo = 0.0, hi = 0.0;
-    std::string e = parsePair("--rotation", o.rotation, true, lo, hi);
+    std::string e = cli::parseOptionPair("--rotation", o.rotation, cli::PairRule::kOrdered, "in degrees", "", lo, hi);
     if (!e.empty()) return e;
     r.angle_min_rad = lo * kRadPerDeg;
     r.angle_max_rad = hi * kRadPerDeg;
-    e = parsePair("--scale", o.scale, true, lo, hi);
+    e = cli::parseOptionPair("--scale", o.scale, cli::PairRule::kOrdered, "", "", lo, hi);
     if (!e.empty()) return e;
     r.scale_min = lo;
     r.scale_max = hi;
-    e = parsePair("--shift", o.shift, false, lo, hi);
+    e = cli::parseOptionPair("--shift", o.shift, cli::PairRule::kAny, "in pixels", "", lo, hi);
     if (!e.empty()) return e;
     r.shift_x_px = lo;
     r.shift_y_px = hi;

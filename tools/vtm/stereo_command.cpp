@@ -1,4 +1,5 @@
 #include "stereo_command.hpp"
+#include "option_pair.hpp"
 
 #include <chrono>
 #include <cinttypes>
@@ -48,12 +49,6 @@ int fail(int code, const std::string& message) {
     return code;
 }
 
-bool parseInt(const std::string& s, long& v) {
-    char* end = nullptr;
-    v = std::strtol(s.c_str(), &end, 10);
-    return !s.empty() && *end == '\0' && v >= -1000000 && v <= 1000000;
-}
-
 struct DisparityRange {
     bool ok = false;
     std::int32_t min = 0;
@@ -62,18 +57,11 @@ struct DisparityRange {
 };
 
 DisparityRange parseRange(const std::string& text) {
-    DisparityRange r;
-    const std::size_t colon = text.find(':');
-    long lo = 0;
-    long hi = 0;
-    if (colon == std::string::npos || !parseInt(text.substr(0, colon), lo) || !parseInt(text.substr(colon + 1), hi)) {
-        r.error = "--disparity '" + text + "': expected MIN:MAX in whole pixels, e.g. 0:63";
-    } else if (lo > hi) {
-        r.error = "--disparity '" + text + "': empty range (MIN > MAX)";
-    } else {
-        r = DisparityRange{true, static_cast<std::int32_t>(lo), static_cast<std::int32_t>(hi), ""};
-    }
-    return r;
+    double lo = 0.0, hi = 0.0;
+    const std::string e =
+        cli::parseOptionPair("--disparity", text, cli::PairRule::kWholeOrdered, "in whole pixels", "0:63", lo, hi);
+    if (!e.empty()) return DisparityRange{false, 0, 0, e};
+    return DisparityRange{true, static_cast<std::int32_t>(lo), static_cast<std::int32_t>(hi), ""};
 }
 
 std::string sizeText(const GreyImage& img) { return std::to_string(img.width) + "x" + std::to_string(img.height); }

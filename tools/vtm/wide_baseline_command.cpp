@@ -1,4 +1,5 @@
 #include "wide_baseline_command.hpp"
+#include "option_pair.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -47,22 +48,9 @@ struct PairInputs {
 
 std::string sizeText(const GreyImage& img) { return std::to_string(img.width) + "x" + std::to_string(img.height); }
 
-// "MIN:MAX" metres, 0 < MIN < MAX; "" or the error.
+// --range MIN:MAX in metres, 0 < MIN < MAX; "" or the error.
 std::string parseRange(const std::string& text, double& lo, double& hi) {
-    const std::size_t colon = text.find(':');
-    char* end1 = nullptr;
-    char* end2 = nullptr;
-    if (colon != std::string::npos) {
-        const std::string a = text.substr(0, colon);
-        const std::string b = text.substr(colon + 1);
-        lo = std::strtod(a.c_str(), &end1);
-        hi = std::strtod(b.c_str(), &end2);
-        if (!a.empty() && !b.empty() && *end1 == '\0' && *end2 == '\0' && std::isfinite(lo) && std::isfinite(hi) &&
-            lo > 0.0 && hi > lo) {
-            return "";
-        }
-    }
-    return "--range '" + text + "': expected MIN:MAX in metres with 0 < MIN < MAX, e.g. 1:1000";
+    return cli::parseOptionPair("--range", text, cli::PairRule::kPositiveIncreasing, "in metres", "1:1000", lo, hi);
 }
 
 std::string checkImageMatchesModel(const std::string& path, const GreyImage& img, const CameraModel& m,
