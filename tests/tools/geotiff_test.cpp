@@ -59,6 +59,8 @@ TEST(GeoTiff, GdalReadsTheGridValuesAndNodataBitForBit) {
         }
     }
     EXPECT_STREQ(ds->GetRasterBand(1)->GetUnitType(), "m");
+    EXPECT_STREQ(ds->GetRasterBand(2)->GetUnitType(), "m");
+    EXPECT_STREQ(ds->GetRasterBand(3)->GetUnitType(), "");
     EXPECT_STREQ(ds->GetMetadataItem("VTM_SOURCE"), "geotiff_test");
     EXPECT_NE(std::strstr(ds->GetMetadataItem("VTM_UNITS"), "elevation up"), nullptr);
     EXPECT_NE(std::strstr(ds->GetMetadataItem("VTM_NO_DATA"), "NaN"), nullptr);

@@ -23,13 +23,13 @@ namespace {
 // What goes into one file: bands of one type on one grid, cell (col, row) at pixel (col, row).
 struct RasterBand {
     std::string description;
+    std::string unit;    // "m", or "" for none
     const void* values;  // cols * rows values of the raster's type, row 0 (north) first
 };
 struct Raster {
     terrain::GridConfig grid;
     GDALDataType type = GDT_Float32;
-    std::optional<double> no_data;
-    std::string unit;  // band unit ("m"), "" for none
+    std::optional<double> no_data;  // GeoTIFF has one nodata value for all bands
     std::vector<RasterBand> bands;
     std::vector<std::pair<std::string, std::string>> metadata;
 };
@@ -55,13 +55,14 @@ bool fillDataset(GDALDataset& ds, const Raster& r) {
     }
     for (int b = 0; b < static_cast<int>(r.bands.size()); ++b) {
         GDALRasterBand* band = ds.GetRasterBand(b + 1);
-        void* values = const_cast<void*>(r.bands[static_cast<std::size_t>(b)].values);  // GF_Write does not modify it
+        void* values = const_cast<void*>(r.bands[static_cast<std::size_t>(b)].values);  // GF_Write reads it only
         if (band->RasterIO(GF_Write, 0, 0, r.grid.cols, r.grid.rows, values, r.grid.cols, r.grid.rows, r.type, 0, 0) !=
             CE_None) {
             return false;
         }
-        band->SetDescription(r.bands[static_cast<std::size_t>(b)].description.c_str());
-        if (!r.unit.empty() && band->SetUnitType(r.unit.c_str()) != CE_None) return false;
+        const RasterBand& spec = r.bands[static_cast<std::size_t>(b)];
+        band->SetDescription(spec.description.c_str());
+        if (!spec.unit.empty() && band->SetUnitType(spec.unit.c_str()) != CE_None) return false;
         if (r.no_data && band->SetNoDataValue(*r.no_data) != CE_None) return false;
     }
     return true;
@@ -130,9 +131,10 @@ Outcome writeHeightMapGeoTiff(const std::string& path, const terrain::HeightMap&
     const FloatImage elevation = elevationImage(map);
     const FloatImage spread = bands.spread ? cellValues(map, false) : FloatImage();
     const FloatImage count = bands.count ? cellValues(map, true) : FloatImage();
-    Raster r{map.grid(), GDT_Float32, std::numeric_limits<double>::quiet_NaN(), "m", {{"elevation_m", elevation.pixels.data()}}, commonMetadata(options)};
-    if (bands.spread) r.bands.push_back({"spread_m", spread.pixels.data()});
-    if (bands.count) r.bands.push_back({"count", count.pixels.data()});
+    Raster r{map.grid(), GDT_Float32, std::numeric_limits<double>::quiet_NaN(),
+             {{"elevation_m", "m", elevation.pixels.data()}}, commonMetadata(options)};
+    if (bands.spread) r.bands.push_back({"spread_m", "m", spread.pixels.data()});
+    if (bands.count) r.bands.push_back({"count", "", count.pixels.data()});
     r.metadata.emplace_back("VTM_UNITS", "m, elevation up (from the site origin's level plane); count: points");
     r.metadata.emplace_back("VTM_NO_DATA", "NaN (count: 0)");
     return writeRaster(path, r, options.site);
@@ -147,7 +149,7 @@ Outcome writeOrthophotoGeoTiff(const std::string& path, const GreyImage& image, 
                                 "x1 (one 8-bit band, a pixel per cell); nothing written");
     }
     if (!grid.validate().isOk()) return Outcome::failure(path + ": invalid grid; nothing written");
-    Raster r{grid, GDT_Byte, std::nullopt, "", {{"orthophoto", image.pixels.data()}}, commonMetadata(options)};
+    Raster r{grid, GDT_Byte, std::nullopt, {{"orthophoto", "", image.pixels.data()}}, commonMetadata(options)};
     if (no_data) r.no_data = static_cast<double>(*no_data);
     r.metadata.emplace_back("VTM_UNITS", "grey level, 8 bit");
     r.metadata.emplace_back("VTM_NO_DATA", no_data ? std::to_string(*no_data) : std::string("none"));
