@@ -41,8 +41,8 @@ std::array<double, 6> geoTransform(const terrain::GridConfig& g) {
 std::vector<std::pair<std::string, std::string>> commonMetadata(const GeoTiffOptions& options) {
     return {{"VTM_SOURCE", options.source.empty() ? "VTM" : options.source},
             {"VTM_SITE_FRAME", "x north, y east, z down, metres; easting = site y, northing = site x"},
-            {"VTM_SITE_ORIGIN", std::to_string(options.site.latitude_deg) + " deg N, " +
-                                    std::to_string(options.site.longitude_deg) + " deg E (planetocentric)"},
+            {"VTM_SITE_ORIGIN", "latitude " + std::to_string(options.site.latitude_deg) + " deg, east longitude " +
+                                    std::to_string(options.site.longitude_deg) + " deg (planetocentric)"},
             {"VTM_VERSION", VTM_VERSION}};
 }
 
