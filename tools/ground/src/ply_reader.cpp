@@ -78,15 +78,16 @@ public:
 
 private:
     std::string element(const PlyElement& e, std::size_t index, const VertexLayout& layout, Points& points);
-    std::string take(std::size_t n, const PlyElement& e, std::uint64_t i);
+    std::string take(std::uint64_t n, const PlyElement& e, std::uint64_t i);
     std::int64_t integerAt(PlyType type) const;
     const std::vector<unsigned char>& b_;
     const std::string& name_;
     std::size_t pos_;
 };
 
-std::string BinaryBody::take(std::size_t n, const PlyElement& e, std::uint64_t i) {
-    if (b_.size() - pos_ < n) {
+// n in 64 bits: a list of 2^32 - 1 doubles must not wrap a 32-bit size_t (armhf, ppc750).
+std::string BinaryBody::take(std::uint64_t n, const PlyElement& e, std::uint64_t i) {
+    if (static_cast<std::uint64_t>(b_.size() - pos_) < n) {
         return name_ + ": truncated PLY: " + e.name + " " + std::to_string(i + 1U) + " of " + std::to_string(e.count) +
                " needs bytes " + std::to_string(pos_) + ".." + std::to_string(pos_ + n - 1U) + ", the file has " +
                std::to_string(b_.size());
@@ -108,14 +109,14 @@ std::string BinaryBody::element(const PlyElement& e, std::size_t index, const Ve
         Vec3 v = Vec3::Zero();
         for (std::size_t p = 0; p < e.properties.size(); ++p) {
             const PlyProperty& prop = e.properties[p];
-            std::size_t n = detail::plyTypeBytes(prop.type);
+            std::uint64_t n = detail::plyTypeBytes(prop.type);
             if (prop.is_list) {
                 std::string error = take(detail::plyTypeBytes(prop.count_type), e, i);
                 if (!error.empty()) return error;
                 const std::int64_t items = integerAt(prop.count_type);
                 if (items < 0) return name_ + ": PLY byte " + std::to_string(pos_) + ": negative list length";
                 pos_ += detail::plyTypeBytes(prop.count_type);
-                n *= static_cast<std::size_t>(items);
+                n *= static_cast<std::uint64_t>(items);  // items < 2^32, n < 2^35
             }
             std::string error = take(n, e, i);
             if (!error.empty()) return error;
@@ -124,7 +125,7 @@ std::string BinaryBody::element(const PlyElement& e, std::size_t index, const Ve
                 v[axis] = prop.type == PlyType::kFloat32 ? static_cast<double>(detail::loadF32LE(b_.data() + pos_))
                                                          : detail::loadF64LE(b_.data() + pos_);
             }
-            pos_ += n;
+            pos_ += static_cast<std::size_t>(n);  // n <= the bytes left (take)
         }
         if (index == layout.element) points.push_back(v);
     }
