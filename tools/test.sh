@@ -133,7 +133,7 @@ if [ "$all" = 1 ]; then
   step "static analysis" tools/checks/static_analysis.sh build/host-release
   step "valgrind memcheck (host unit tests)" memcheck build/host-release
   # Bounded libFuzzer runs of the parsers that face the outside (docs/static-analysis.md).
-  step "fuzz (link decoder, file readers, camera model, scenario, pose files; ${FUZZ_SECONDS:-30} s each)" tools/checks/fuzz.sh
+  step "fuzz (link decoder, file readers, camera model, scenario, pose files, PLY reader; ${FUZZ_SECONDS:-30} s each)" tools/checks/fuzz.sh
 fi
 budget_dirs="build/host-release"
 for t in $targets; do

@@ -5,6 +5,7 @@
 #   fuzz_camera_model   vtm::parseCameraModel (fsw/core)
 #   fuzz_scenario       sim::parseScenario (.scn files; seeds: sim/scenarios/*.scn)
 #   fuzz_pose_files     tools/ground's vtm-camera-poses / vtm-poses readers and pose specs
+#   fuzz_ply_reader     tools/ground's PLY point reader (ascii, binary little endian)
 # Configures build/fuzz from tests/fuzz/CMakeLists.txt, writes a seed corpus per target
 # (valid inputs; Python's zlib.crc32 computes the link CRCs independently of our code),
 # runs each target for FUZZ_SECONDS (default 30; FUZZ_JOBS of them at once, default the
@@ -28,10 +29,10 @@ work=$build/runs
 
 cmake -S "$root/tests/fuzz" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ >/dev/null
 cmake --build "$build" --target fuzz_link_decoder fuzz_file_readers fuzz_camera_model fuzz_scenario \
-    fuzz_pose_files >/dev/null
+    fuzz_pose_files fuzz_ply_reader >/dev/null
 
 rm -rf "$work"
-mkdir -p "$work"/{link,file,cmod,scn,poses}/{corpus,artifacts}
+mkdir -p "$work"/{link,file,cmod,scn,poses,ply}/{corpus,artifacts}
 cp "$root"/sim/scenarios/*.scn "$work/scn/corpus/"
 python3 - "$work" <<'PY'
 import struct, sys, zlib
@@ -97,6 +98,14 @@ write(f"{work}/poses/corpus/camera_poses", b"\x00\x00" + cams)
 write(f"{work}/poses/corpus/pose_log", b"\x01\x00vtm-poses 1\n1000 0 0 0 1 0 0 0 1e-4 1e-4 1e-4 1e-6 1e-6 1e-6\n")
 write(f"{work}/poses/corpus/spec_index", b"\x02\x01" + cams)
 write(f"{work}/poses/corpus/spec_one", b"\x03\x00vtm-camera-poses 1\n0 mast 1000 0 0 -1.9 1 0 0 0\n")
+# PLY: ascii with an extra property and a face list; binary little endian, doubles and a list.
+write(f"{work}/ply/corpus/ascii", b"ply\nformat ascii 1.0\ncomment seed\nelement vertex 3\nproperty float x\n"
+      b"property float y\nproperty float z\nproperty uchar red\nelement face 1\n"
+      b"property list uchar int vertex_indices\nend_header\n0 0 0 1\n1 0 0.5 2\n0 1 -0.25 3\n3 0 1 2\n")
+write(f"{work}/ply/corpus/binary", b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty double x\n"
+      b"property double y\nproperty double z\nproperty short s\nelement face 1\n"
+      b"property list uchar uint vertex_indices\nend_header\n" +
+      struct.pack("<3dh", 1.5, -2.0, 0.25, 7) + struct.pack("<3dh", 0.0, 3.0, -1.0, 8) + struct.pack("<B2I", 2, 0, 1))
 PY
 
 # Each target runs on a core of its own: up to FUZZ_JOBS (default: the number of cores)
@@ -127,7 +136,7 @@ run() {  # name dir: runs one target, writes its report line(s) to dir/report.tx
   echo "$failed" > "$dir/status"
 }
 targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod fuzz_scenario:scn
-         fuzz_pose_files:poses)
+         fuzz_pose_files:poses fuzz_ply_reader:ply)
 if [[ -n ${FUZZ_TARGETS:-} ]]; then  # e.g. FUZZ_TARGETS="fuzz_file_readers fuzz_pose_files"
   chosen=()
   for t in "${targets[@]}"; do

@@ -150,6 +150,7 @@ ALWAYS_FORBIDDEN = [
     (re.compile(r"^(opencv2?|cv)/|^opencv"), "OpenCV appears only under tests/ and benchmarks"),
     (re.compile(r"^tools/|^CLI/"), "ground tools are not flight code"),
     (re.compile(r"^(gtest|gmock)/"), "test frameworks belong to tests/"),
+    (re.compile(r"^(gdal|ogr_|cpl_)"), "GDAL (GeoTIFF) belongs to the ground tools, tools/ground only"),
 ]
 
 # The folders of fsw/ (core, app and the modules), set by check_sources from the tree.

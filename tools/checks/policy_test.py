@@ -73,6 +73,16 @@ class PolicyTest(unittest.TestCase):
                         "#include <opencv2/core.hpp>\n")
         self.assertEqual(self.rules(), [f"fsw/app/src/mapper.cpp:{n}: include-layer" for n in range(1, 6)])
 
+    def test_gdal_is_refused_in_flight_code_and_in_the_simulator(self) -> None:
+        self.tree.write("fsw/stereo/src/ml_stereo.cpp", "#include <gdal_priv.h>\n#include <ogr_spatialref.h>\n")
+        self.tree.write("hal/file/src/reader.cpp", "#include <cpl_error.h>\n")
+        self.tree.write("sim/src/world.cpp", "#include <gdal.h>\n")
+        found = sorted(self.tree.findings())
+        self.assertEqual([":".join(f.split(":")[:3]) for f in found],
+                         ["fsw/stereo/src/ml_stereo.cpp:1: include-layer", "fsw/stereo/src/ml_stereo.cpp:2: include-layer",
+                          "hal/file/src/reader.cpp:1: include-layer", "sim/src/world.cpp:1: include-layer"])
+        self.assertTrue(all("tools/ground only" in f for f in found), found)
+
     # --- fsw/<module> ----------------------------------------------------------------------
     def test_module_may_include_core_and_itself(self) -> None:
         self.tree.write("fsw/stereo/src/ml_stereo.cpp",
