@@ -26,18 +26,13 @@
 namespace vtm::sim {
 namespace {
 
-// One terrain at a time, built into a static pool (tests run one after another); asking
-// for the world that is already built reuses it (terrain builds dominate under qemu).
+// Each world built once, in its own pool slot (terrain builds dominate under qemu).
 enum class World { kFlatAlbedo, kDome, kSmallMars };
-// The terrain of `world`, built again only when another world was asked for since.
 const Terrain& buildTerrain(World world, const TerrainParams& params) {
-    static const Terrain* terrain = nullptr;
-    static int built = -1;
-    if (built != static_cast<int>(world) || terrain == nullptr) {
-        built = static_cast<int>(world);
-        terrain = &buildTerrainInPool(params);
-    }
-    return *terrain;
+    static const Terrain* terrains[kTerrainPoolSlots] = {};
+    const int slot = static_cast<int>(world);
+    if (terrains[slot] == nullptr) terrains[slot] = &buildTerrainInPool(params, slot);
+    return *terrains[slot];
 }
 
 // A flat plane with albedo patches of a few metres and no fine texture.
