@@ -58,9 +58,9 @@ std::size_t HeightProducts::workspaceBytes(const ProductConfig& products, const 
     }
     std::size_t bytes = 0U;
     for (std::int32_t p = 0; p < products.count; ++p) {
-        const std::int32_t level = products.levels[static_cast<std::size_t>(p)];
-        const std::size_t n = binsOf(level);
-        bytes += terrain::HeightMap::workspaceBytes(mapConfig(octree, level, products.reducer));
+        const std::int32_t l = products.levels[static_cast<std::size_t>(p)];
+        const std::size_t n = binsOf(l);
+        bytes += terrain::HeightMap::workspaceBytes(mapConfig(octree, l, products.reducer));
         bytes += Arena::arrayBytes<std::uint8_t>(n) + Arena::arrayBytes<std::uint16_t>(n);
     }
     return bytes;
