@@ -9,8 +9,8 @@
 namespace vtm::octree {
 namespace {
 
-Status invalidConfig(const char* reason, double value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, static_cast<std::int64_t>(value));
+Status invalidConfig(const char* reason, std::int64_t value) noexcept {
+    return Status(StatusCode::kInvalidConfig, reason, value);
 }
 
 // Octant of the child at `level` on the way to finest keys `key`: bit 0 x, bit 1 y, bit 2 z.
@@ -23,17 +23,17 @@ std::uint32_t octantAt(const std::uint32_t key[3], std::int32_t max_depth, std::
 
 Status OctreeConfig::validate() const noexcept {
     if (!math::isFinite(north_edge_m)) {
-        return invalidConfig("octree.north_edge_m: must be finite", 0.0);
+        return invalidConfig("octree.north_edge_m: must be finite", 0);
     }
     if (!math::isFinite(west_edge_m)) {
-        return invalidConfig("octree.west_edge_m: must be finite", 0.0);
+        return invalidConfig("octree.west_edge_m: must be finite", 0);
     }
     if (!math::isFinite(top_z_m)) {
-        return invalidConfig("octree.top_z_m: must be finite", 0.0);
+        return invalidConfig("octree.top_z_m: must be finite", 0);
     }
     // From 1 mm: the finest cell, side / 2^20, stays a normal double (exact halving).
     if (!(side_m >= 1.0e-3) || !(side_m <= 1.0e6)) {
-        return invalidConfig("octree.side_m: must be in [0.001, 1e6] m", math::isFinite(side_m) ? side_m : 0.0);
+        return invalidConfig("octree.side_m: must be in [0.001, 1e6] m", 0);  // no detail: a double may not fit
     }
     if (max_depth < 0 || max_depth > kMaxDepth) {
         return invalidConfig("octree.max_depth: must be 0..20", max_depth);
