@@ -15,6 +15,8 @@
 #include "vtm/entropy/registration.hpp"
 #include "vtm/features/features.hpp"
 #include "vtm/motion/motion_refiner.hpp"
+#include "vtm/octree/height_products.hpp"
+#include "vtm/octree/octree.hpp"
 #include "vtm/rectify/rectifier.hpp"
 #include "vtm/refine/pair_refiner.hpp"
 #include "vtm/stereo/disparity_plane.hpp"
@@ -833,6 +835,77 @@ std::uint64_t entropySection() noexcept {
     return h.value();
 }
 
+
+// The terrain octree and its height products (issue 25): 4,000 integer-generated samples
+// of a 32 m cube (footprints 2 cm..40 m, four sources, a few refused), every node and
+// counter, then products at three levels (mean reducer): every bin's highest, lowest,
+// mean, count, data level and sources.
+std::uint64_t octreeSection() noexcept {
+    Hasher h;
+    octree::OctreeConfig c;
+    c.north_edge_m = 16.0;
+    c.west_edge_m = -16.0;
+    c.top_z_m = -8.0;
+    c.side_m = 32.0;
+    c.max_depth = 9;
+    c.max_nodes = 9000;
+    static std::byte pool[9000U * sizeof(octree::OctreeNode) + 64U];
+    Arena arena(pool, sizeof pool);
+    static octree::Octree tree;
+    h.addI64(static_cast<std::int64_t>(tree.init(c, arena).code()));
+    for (std::uint64_t k = 0; k < 4000U; ++k) {
+        const std::uint64_t r = mixBits64(k + 2525U);
+        octree::Sample s;
+        const double x = -16.5 + 33.0 * static_cast<double>(r & 0xFFFFU) / 65536.0;  // a few outside
+        const double y = -16.0 + 32.0 * static_cast<double>((r >> 16U) & 0xFFFFU) / 65536.0;
+        const double bump = 1.0 - (x * x + y * y) / 300.0;
+        s.site_m = Vec3(x, y, -(bump * bump * 2.0 + 0.03 * x - 0.02 * y));
+        s.footprint_m = 0.02 * static_cast<double>(1U + ((r >> 32U) & 0x7FFU));  // 0.02 .. 40.96 m
+        s.source = static_cast<std::uint8_t>((r >> 48U) & 3U);
+        h.addI64(static_cast<std::int64_t>(tree.insert(s).code()));
+    }
+    for (std::uint32_t i = 0; i < tree.nodeCount(); ++i) {
+        const octree::OctreeNode& n = tree.node(i);
+        h.addI64(n.level);
+        h.addI64(n.key_x);
+        h.addI64(n.key_y);
+        h.addI64(n.key_z);
+        h.addI64(n.count);
+        h.addI64(n.sources);
+        h.addDouble(n.sum_m);
+        h.addFloat(n.count > 0U ? n.highest_m : 0.0F);
+        h.addFloat(n.count > 0U ? n.lowest_m : 0.0F);
+        for (const std::uint32_t child : n.child) {
+            h.addI64(child);
+        }
+    }
+    h.addI64(tree.stats().inserted);
+    h.addI64(tree.stats().refused_outside);
+    octree::ProductConfig pc;
+    pc.levels = {{2, 5, 7, 0, 0, 0}};
+    pc.count = 3;
+    pc.reducer = terrain::Reducer::kMean;
+    static std::byte product_pool[400U << 10U];
+    Arena product_arena(product_pool, sizeof product_pool);
+    static octree::HeightProducts products;
+    h.addI64(static_cast<std::int64_t>(products.init(pc, c, product_arena).code()));
+    h.addI64(static_cast<std::int64_t>(products.extract(tree).code()));
+    for (std::int32_t p = 0; p < products.count(); ++p) {
+        const terrain::HeightMap& m = products.map(p);
+        for (std::int32_t row = 0; row < m.grid().rows; ++row) {
+            for (std::int32_t col = 0; col < m.grid().cols; ++col) {
+                h.addFloat(m.highest(col, row));
+                h.addFloat(m.lowest(col, row));
+                h.addFloat(m.elevation(col, row));
+                h.addI64(m.count(col, row));
+                h.addI64(products.dataLevel(p, col, row));
+                h.addI64(products.sources(p, col, row));
+            }
+        }
+    }
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -847,6 +920,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kWideBaseline: return "wide_baseline";
         case Section::kDescent: return "descent";
         case Section::kEntropy: return "entropy";
+        case Section::kOctree: return "octree";
     }
     return "unknown";
 }
@@ -863,6 +937,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kWideBaseline: return wideBaselineSection();
         case Section::kDescent: return descentSection();
         case Section::kEntropy: return entropySection();
+        case Section::kOctree: return octreeSection();
     }
     return 0U;
 }

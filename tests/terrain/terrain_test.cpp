@@ -572,6 +572,67 @@ TEST(HeightMap, MergingTwoMapsEqualsOneMapOfAllPointsBitForBit) {
     EXPECT_EQ(first.map.merge(mall.map).code(), StatusCode::kSizeMismatch);  // another reducer
 }
 
+// A producer that has already reduced its points (the octree) writes summaries: the map
+// must equal the map of the points themselves (highest, lowest, count exactly; the mean
+// to float rounding), and a summary that would saturate keeps the mean as merge() does.
+TEST(HeightMap, MergedCellSummariesEqualTheMapOfTheirPoints) {
+    Random rng(5U);
+    std::vector<TerrainPoint> pts(400);
+    for (TerrainPoint& p : pts) {
+        const double n = -4.99 + 5.98 * rng.uniform01();
+        const double e = 10.0 + 9.99 * rng.uniform01();
+        const double u = std::cos(e) + 0.2 * rng.uniform01();
+        p = at(n, e, u);
+    }
+    MapFixture direct(grid(), Reducer::kMean), summed(grid(), Reducer::kMean);
+    ASSERT_TRUE(direct.map.add(Span<const TerrainPoint>(pts.data(), pts.size())).isOk());
+    // Summaries by hand: groups of up to 3 consecutive points of one cell.
+    const double south = grid().north_edge_m - grid().rows * grid().cell_m;
+    NoHeapScope scope;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const TerrainPoint& p = pts[i];
+        const auto col = static_cast<std::int32_t>(std::floor((p.y_m - grid().west_edge_m) / grid().cell_m));
+        const auto row = grid().rows - 1 - static_cast<std::int32_t>(std::floor((p.x_m - south) / grid().cell_m));
+        CellSummary s;
+        s.highest_m = -p.z_m;
+        s.lowest_m = -p.z_m;
+        s.sum_m = -p.z_m;
+        s.count = 1U;
+        ASSERT_TRUE(summed.map.mergeCell(col, row, s).isOk());
+    }
+    EXPECT_EQ(summed.map.mergeCell(0, 0, CellSummary{}).code(), StatusCode::kOk);  // count 0: nothing
+    EXPECT_EQ(summed.map.mergeCell(grid().cols, 0, CellSummary{1.0F, 1.0F, 1.0F, 1U}).code(),
+              StatusCode::kInvalidArgument);
+    EXPECT_EQ(summed.map.mergeCell(0, -1, CellSummary{1.0F, 1.0F, 1.0F, 1U}).code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(scope.heapCalls(), 0U);
+    std::int32_t filled = 0;
+    for (int r = 0; r < grid().rows; ++r) {
+        for (int c = 0; c < grid().cols; ++c) {
+            const float h1 = summed.map.highest(c, r), h2 = direct.map.highest(c, r);
+            const float l1 = summed.map.lowest(c, r), l2 = direct.map.lowest(c, r);
+            EXPECT_EQ(std::memcmp(&h1, &h2, sizeof h1), 0) << c << "," << r;
+            EXPECT_EQ(std::memcmp(&l1, &l2, sizeof l1), 0) << c << "," << r;
+            ASSERT_EQ(summed.map.count(c, r), direct.map.count(c, r));
+            if (direct.map.count(c, r) > 0) {
+                ++filled;
+                EXPECT_NEAR(summed.map.elevation(c, r), direct.map.elevation(c, r), 1e-5);
+            }
+        }
+    }
+    EXPECT_GT(filled, 150);
+    // Saturation: 60000 + 10000 points of means 1 and 2 in one cell -> count 65535, mean
+    // (60000 + 20000) / 70000, extremes kept.
+    MapFixture sat(grid(), Reducer::kMean);
+    ASSERT_TRUE(sat.map.mergeCell(2, 3, CellSummary{1.5F, 0.5F, 60000.0F, 60000U}).isOk());
+    ASSERT_TRUE(sat.map.mergeCell(2, 3, CellSummary{4.0F, 1.0F, 20000.0F, 10000U}).isOk());
+    EXPECT_EQ(sat.map.count(2, 3), 65535U);
+    EXPECT_NEAR(sat.map.elevation(2, 3), 80000.0 / 70000.0, 1e-4);
+    EXPECT_EQ(sat.map.highest(2, 3), 4.0F);
+    EXPECT_EQ(sat.map.lowest(2, 3), 0.5F);
+    HeightMap never;
+    EXPECT_EQ(never.mergeCell(0, 0, CellSummary{}).code(), StatusCode::kNotInitialized);
+}
+
 TEST(HeightMap, SetGridMovesTheMapWithinItsCapacityAndEmptiesIt) {
     MapFixture f(grid(), Reducer::kMean);
     ASSERT_TRUE(f.map.add(Span<const TerrainPoint>(kPoints, kPointCount)).isOk());

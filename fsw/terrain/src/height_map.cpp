@@ -191,25 +191,45 @@ Status HeightMap::merge(const HeightMap& other) noexcept {
         return Status(StatusCode::kSizeMismatch, "height map: merge of maps on different grids or reducers");
     }
     for (std::size_t k = 0; k < cells_; ++k) {
-        const std::uint16_t n = other.count_[k];
-        if (n == 0U) {
-            continue;
-        }
-        if (count_[k] == 0U) {
-            high_[k] = other.high_[k];
-            low_[k] = other.low_[k];
-        } else {
-            high_[k] = (other.high_[k] > high_[k]) ? other.high_[k] : high_[k];
-            low_[k] = (other.low_[k] < low_[k]) ? other.low_[k] : low_[k];
-        }
-        const std::uint32_t total = static_cast<std::uint32_t>(count_[k]) + n;
-        if (!sum_.empty()) {
-            const float sum = sum_[k] + other.sum_[k];
-            sum_[k] = (total <= kMaxCount) ? sum : (sum / static_cast<float>(total)) * static_cast<float>(kMaxCount);
-        }
-        count_[k] = (total < kMaxCount) ? static_cast<std::uint16_t>(total) : kMaxCount;
+        CellSummary part;
+        part.highest_m = other.high_[k];
+        part.lowest_m = other.low_[k];
+        part.sum_m = other.sum_.empty() ? 0.0F : other.sum_[k];
+        part.count = other.count_[k];
+        mergeSummary(k, part);
     }
     return Status::ok();
+}
+
+Status HeightMap::mergeCell(std::int32_t col, std::int32_t row, const CellSummary& summary) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "height map: mergeCell before init");
+    }
+    if (col < 0 || col >= grid_.cols || row < 0 || row >= grid_.rows) {
+        return Status(StatusCode::kInvalidArgument, "height map: mergeCell col/row outside the grid", col);
+    }
+    mergeSummary(index(col, row), summary);
+    return Status::ok();
+}
+
+void HeightMap::mergeSummary(std::size_t k, const CellSummary& summary) noexcept {
+    const std::uint32_t n = summary.count;
+    if (n == 0U) {
+        return;
+    }
+    if (count_[k] == 0U) {
+        high_[k] = summary.highest_m;
+        low_[k] = summary.lowest_m;
+    } else {
+        high_[k] = (summary.highest_m > high_[k]) ? summary.highest_m : high_[k];
+        low_[k] = (summary.lowest_m < low_[k]) ? summary.lowest_m : low_[k];
+    }
+    const std::uint64_t total = static_cast<std::uint64_t>(count_[k]) + n;
+    if (!sum_.empty()) {
+        const float sum = sum_[k] + summary.sum_m;
+        sum_[k] = (total <= kMaxCount) ? sum : (sum / static_cast<float>(total)) * static_cast<float>(kMaxCount);
+    }
+    count_[k] = (total < kMaxCount) ? static_cast<std::uint16_t>(total) : kMaxCount;
 }
 
 float HeightMap::elevation(std::int32_t col, std::int32_t row) const noexcept {

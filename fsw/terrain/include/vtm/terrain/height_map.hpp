@@ -67,6 +67,16 @@ struct HeightMapConfig {
     [[nodiscard]] Status validate() const noexcept;  // kInvalidConfig naming the field
 };
 
+// The statistics of some points that fall in one cell, already reduced (the octree's
+// nodes, fsw/octree): elevations up, metres; sum_m is the sum of the elevations the mean
+// is made of (read with kMean only). count 0 means no points.
+struct CellSummary {
+    float highest_m = kNoData;
+    float lowest_m = kNoData;
+    float sum_m = 0.0F;
+    std::uint32_t count = 0U;
+};
+
 struct HeightMapStats {
     std::int64_t added = 0;    // points that fell in the grid
     std::int64_t outside = 0;  // points outside it (or non-finite)
@@ -101,6 +111,11 @@ public:
     // 65535). Highest and lowest merge exactly (a map merged from parts equals the map of
     // all points bit for bit); a mean only up to float rounding.
     [[nodiscard]] Status merge(const HeightMap& other) noexcept;
+    // Merges a summary into cell (col, row) by the same rule as merge() (a summary of
+    // count 0 changes nothing): how a producer that has already reduced its points writes
+    // cell statistics directly. kNotInitialized; kInvalidArgument for a cell outside the
+    // grid (nothing changed).
+    [[nodiscard]] Status mergeCell(std::int32_t col, std::int32_t row, const CellSummary& summary) noexcept;
 
     // Cell access (0 <= col < cols, 0 <= row < rows: VTM_ASSERT). Elevations up, metres
     // (= -site z); kNoData for a cell without points.
@@ -119,6 +134,7 @@ public:
 private:
     [[nodiscard]] std::size_t index(std::int32_t col, std::int32_t row) const noexcept;
     void bin(double north_m, double east_m, double down_m, HeightMapStats& stats) noexcept;
+    void mergeSummary(std::size_t k, const CellSummary& summary) noexcept;
     GridConfig grid_{};
     double south_edge_m_ = 0.0;  // north_edge_m - rows * cell_m
     std::size_t capacity_ = 0U;  // cells
