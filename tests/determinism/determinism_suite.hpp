@@ -13,7 +13,8 @@
 //   - the wide-baseline front end on a small rendered rover pair (features, matches,
 //     refined motion, rectification tables and images) and triangulation into a height map;
 //   - the descent plane sweep on a rendered 12-bit nadir pair (depth, score, reason);
-//   - local-entropy images and a multi-modal registration on a generated pair.
+//   - local-entropy images and a multi-modal registration on a generated pair;
+//   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures).
 #pragma once
 
 #include <cstdint>
@@ -31,8 +32,9 @@ enum class Section : std::uint8_t {
     kWideBaseline = 7,
     kDescent = 8,
     kEntropy = 9,
+    kIcp = 10,
 };
-constexpr int kSectionCount = 10;
+constexpr int kSectionCount = 11;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;

@@ -33,14 +33,14 @@ std::vector<TreePoint> randomPoints(std::size_t n, std::uint64_t seed) {
 }
 
 TEST(KdTree, NearestNeighboursEqualBruteForce) {
-    const std::vector<TreePoint> pts = randomPoints(3001, 1U);
+    const std::vector<TreePoint> pts = randomPoints(2001, 1U);
     std::vector<std::byte> pool(KdTree::workspaceBytes(pts.size(), 8));
     Arena arena(pool.data(), pool.size());
     KdTree tree;
     ASSERT_TRUE(tree.init(pts.size(), 8, 4096, arena));
     tree.build(Span<const TreePoint>(pts.data(), pts.size()));
     Random rng(2U);
-    for (int q = 0; q < 300; ++q) {
+    for (int q = 0; q < 200; ++q) {
         const double x = rng.uniform01() * 22.0 - 11.0;
         const double y = rng.uniform01() * 22.0 - 11.0;
         const double z = rng.uniform01() * 1.0 - 0.25;

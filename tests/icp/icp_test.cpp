@@ -32,31 +32,44 @@ struct Fixture {
     Status status;
 };
 
+// Test capacities: the data clouds below (2,500-3,600 points) are subsampled to 2,048.
 IcpConfig smallConfig() {
     IcpConfig c;
     c.max_model_points = 8192;
-    c.max_data_points = 4096;
+    c.max_data_points = 2048;
     return c;
 }
 
 const Patch kModelPatch{-10.0, 10.0, -10.0, 10.0};   // 20 m x 20 m
 const Patch kDataPatch{-2.0, 18.0, -10.0, 10.0};     // 60 % of it over the model
 
-std::vector<Vec3> modelCloud(std::uint64_t seed, bool flat = false) {
-    return test::sampleCloud(kModelPatch, 0.25, seed, 0.01, RigidPose{}, flat);
+std::vector<Vec3> modelCloud(std::uint64_t seed, bool flat = false, double spacing_m = 0.25) {
+    return test::sampleCloud(kModelPatch, spacing_m, seed, 0.01, RigidPose{}, flat);
 }
 
 Span<const Vec3> span(const std::vector<Vec3>& v) { return Span<const Vec3>(v.data(), v.size()); }
 
+// One terrain model (4,356 points, 1 cm noise) and one module holding it, built once per
+// process: the tests run under qemu on every target, where building the cloud and its
+// normals is most of their time.
+const std::vector<Vec3>& sharedModel() {
+    static const std::vector<Vec3> model = modelCloud(1U, false, 0.3);
+    return model;
+}
+
+PointToPlaneIcp& sharedIcp() {
+    static Fixture f(smallConfig());
+    static const bool ready = f.status.isOk() && f.icp.setModel(span(sharedModel())).isOk();
+    EXPECT_TRUE(ready);
+    return f.icp;
+}
+
 TEST(PointToPlaneIcp, RecoversAKnownMotionWithNoiseAndPartialOverlap) {
-    Fixture f(smallConfig());
-    ASSERT_TRUE(f.status.isOk()) << f.status.reason();
-    const std::vector<Vec3> model = modelCloud(1U);
-    ASSERT_TRUE(f.icp.setModel(span(model)).isOk());
+    PointToPlaneIcp& icp = sharedIcp();
     const RigidPose truth = test::motion(1.0, -0.8, 2.5, Vec3(0.4, -0.3, 0.12));
     const std::vector<Vec3> data = test::sampleCloud(kDataPatch, 0.33, 2U, 0.01, truth);
     IcpResult r;
-    const Status s = f.icp.registerData(span(data), RigidPose{}, r);
+    const Status s = icp.registerData(span(data), RigidPose{}, r);
     ASSERT_TRUE(s.isOk()) << s.reason() << " " << s.detail();
     const double rotDeg = test::rotationErrorDeg(r.model_from_data.R, truth.R);
     const double transM = (r.model_from_data.t_m - truth.t_m).norm();
@@ -66,6 +79,9 @@ TEST(PointToPlaneIcp, RecoversAKnownMotionWithNoiseAndPartialOverlap) {
     EXPECT_LE(rotDeg, 0.05);
     EXPECT_LE(transM, 0.01);
     EXPECT_EQ(r.stop, StopReason::kConverged);
+    // 3,600 points subsampled to the capacity.
+    ASSERT_EQ(data.size(), 3600U);
+    EXPECT_EQ(r.data_points_used, 2048);
     // The data patch overlaps the model patch over 12 of its 20 m.
     EXPECT_NEAR(r.overlap, 0.6, 0.05);
     // Noise of 1 cm per axis in both clouds: the point-to-plane residual is about 1.4 cm.
@@ -74,10 +90,7 @@ TEST(PointToPlaneIcp, RecoversAKnownMotionWithNoiseAndPartialOverlap) {
 }
 
 TEST(PointToPlaneIcp, CovarianceIsConsistentWithTheErrorsOverSeededDraws) {
-    Fixture f(smallConfig());
-    ASSERT_TRUE(f.status.isOk());
-    const std::vector<Vec3> model = modelCloud(11U);
-    ASSERT_TRUE(f.icp.setModel(span(model)).isOk());
+    PointToPlaneIcp& icp = sharedIcp();
     int within = 0;
     int beyond4 = 0;
     int total = 0;
@@ -85,9 +98,9 @@ TEST(PointToPlaneIcp, CovarianceIsConsistentWithTheErrorsOverSeededDraws) {
     for (std::uint64_t seed = 0; seed < 5U; ++seed) {
         const RigidPose truth = test::motion(0.5 * static_cast<double>(seed) - 1.0, 0.7, 1.5 - 0.6 * static_cast<double>(seed),
                                              Vec3(0.3 - 0.1 * static_cast<double>(seed), 0.2, -0.1));
-        const std::vector<Vec3> data = test::sampleCloud(kDataPatch, 0.4, 100U + seed, 0.01, truth);
+        const std::vector<Vec3> data = test::sampleCloud(kDataPatch, 0.5, 100U + seed, 0.01, truth);
         IcpResult r;
-        ASSERT_TRUE(f.icp.registerData(span(data), RigidPose{}, r).isOk());
+        ASSERT_TRUE(icp.registerData(span(data), RigidPose{}, r).isOk());
         Vec6 e;
         e.head<3>() = test::rotationErrorVector(r.model_from_data.R, truth.R);
         e.tail<3>() = r.model_from_data.t_m - truth.t_m;
@@ -117,7 +130,7 @@ TEST(PointToPlaneIcp, CovarianceIsConsistentWithTheErrorsOverSeededDraws) {
 TEST(PointToPlaneIcp, FlatPlaneIsRefusedAsAmbiguous) {
     Fixture f(smallConfig());
     ASSERT_TRUE(f.status.isOk());
-    const std::vector<Vec3> model = modelCloud(3U, true);
+    const std::vector<Vec3> model = modelCloud(3U, true, 0.4);
     ASSERT_TRUE(f.icp.setModel(span(model)).isOk());
     const RigidPose guess = test::motion(0.0, 0.0, 1.0, Vec3(0.2, 0.1, 0.0));
     const RigidPose truth = test::motion(0.0, 0.0, 0.0, Vec3(0.0, 0.0, 0.05));
@@ -136,19 +149,16 @@ TEST(PointToPlaneIcp, FlatPlaneIsRefusedAsAmbiguous) {
 }
 
 TEST(PointToPlaneIcp, DisjointAndBarelyOverlappingCloudsAreRefusedForOverlap) {
-    Fixture f(smallConfig());
-    ASSERT_TRUE(f.status.isOk());
-    const std::vector<Vec3> model = modelCloud(5U);
-    ASSERT_TRUE(f.icp.setModel(span(model)).isOk());
-    const std::vector<Vec3> far = test::sampleCloud(Patch{40.0, 60.0, -10.0, 10.0}, 0.5, 6U, 0.01, RigidPose{});
+    PointToPlaneIcp& icp = sharedIcp();
+    const std::vector<Vec3> far = test::sampleCloud(Patch{40.0, 60.0, -10.0, 10.0}, 0.6, 6U, 0.01, RigidPose{});
     IcpResult r;
-    Status s = f.icp.registerData(span(far), RigidPose{}, r);
+    Status s = icp.registerData(span(far), RigidPose{}, r);
     EXPECT_EQ(s.code(), StatusCode::kDegenerate);
     EXPECT_NE(std::string(s.reason()).find("overlap"), std::string::npos);
     EXPECT_EQ(s.detail(), 0);
     // 2 m of a 20 m patch over the model: 10 %, below min_overlap 0.3.
-    const std::vector<Vec3> edge = test::sampleCloud(Patch{8.0, 28.0, -10.0, 10.0}, 0.4, 7U, 0.01, RigidPose{});
-    s = f.icp.registerData(span(edge), RigidPose{}, r);
+    const std::vector<Vec3> edge = test::sampleCloud(Patch{8.0, 28.0, -10.0, 10.0}, 0.6, 7U, 0.01, RigidPose{});
+    s = icp.registerData(span(edge), RigidPose{}, r);
     EXPECT_EQ(s.code(), StatusCode::kDegenerate);
     EXPECT_NE(std::string(s.reason()).find("overlap"), std::string::npos);
     EXPECT_LT(s.detail(), 300);
@@ -160,13 +170,13 @@ TEST(PointToPlaneIcp, BadInputsGiveNamedStatuses) {
     c.max_model_points = 2000;
     Fixture f(c);
     ASSERT_TRUE(f.status.isOk());
-    std::vector<Vec3> model = test::sampleCloud(Patch{-5.0, 5.0, -5.0, 5.0}, 0.25, 8U, 0.01, RigidPose{});
+    std::vector<Vec3> model = test::sampleCloud(Patch{-5.0, 5.0, -5.0, 5.0}, 0.3, 8U, 0.01, RigidPose{});
     IcpResult r;
     EXPECT_EQ(f.icp.registerData(span(model), RigidPose{}, r).code(), StatusCode::kNotInitialized);
     PointToPlaneIcp uninitialised;
     EXPECT_EQ(uninitialised.setModel(span(model)).code(), StatusCode::kNotInitialized);
     // Too many points: the count in the detail.
-    std::vector<Vec3> big = modelCloud(9U);
+    const std::vector<Vec3>& big = sharedModel();
     Status s = f.icp.setModel(span(big));
     EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
     EXPECT_EQ(s.detail(), static_cast<std::int64_t>(big.size()));
@@ -196,37 +206,12 @@ TEST(PointToPlaneIcp, BadInputsGiveNamedStatuses) {
     EXPECT_EQ(f.icp.setModel(Span<const Vec3>(model.data(), 50)).code(), StatusCode::kInvalidArgument);
 }
 
-TEST(PointToPlaneIcp, LargeDataIsSubsampledToCapacity) {
-    IcpConfig c = smallConfig();
-    c.max_data_points = 1024;
-    Fixture f(c);
-    ASSERT_TRUE(f.status.isOk());
-    const std::vector<Vec3> model = modelCloud(12U);
-    ASSERT_TRUE(f.icp.setModel(span(model)).isOk());
-    const RigidPose truth = test::motion(0.3, 0.2, -1.0, Vec3(-0.2, 0.25, 0.05));
-    const std::vector<Vec3> data = test::sampleCloud(Patch{-8.0, 8.0, -8.0, 8.0}, 0.2, 13U, 0.01, truth);
-    ASSERT_GT(data.size(), 4000U);
-    IcpResult r;
-    ASSERT_TRUE(f.icp.registerData(span(data), RigidPose{}, r).isOk());
-    EXPECT_EQ(r.data_points_used, 1024);
-    // A quarter of the points of the main case: errors up to twice as large, and within
-    // 4 sigma of the module's own covariance.
-    EXPECT_LE(test::rotationErrorDeg(r.model_from_data.R, truth.R), 0.1);
-    EXPECT_LE((r.model_from_data.t_m - truth.t_m).norm(), 0.02);
-    Vec6 e;
-    e.head<3>() = test::rotationErrorVector(r.model_from_data.R, truth.R);
-    e.tail<3>() = r.model_from_data.t_m - truth.t_m;
-    for (int i = 0; i < 6; ++i) {
-        EXPECT_LE(std::fabs(e(i)), 4.0 * std::sqrt(r.covariance(i, i))) << i;
-    }
-}
-
 TEST(PointToPlaneIcp, TwoRunsGiveTheSameBitsAndTouchNoHeap) {
     Fixture f(smallConfig());
     ASSERT_TRUE(f.status.isOk());
-    const std::vector<Vec3> model = modelCloud(14U);
+    const std::vector<Vec3> model = test::sampleCloud(Patch{-6.0, 6.0, -6.0, 6.0}, 0.3, 14U, 0.01, RigidPose{});
     const RigidPose truth = test::motion(-0.5, 0.4, 1.2, Vec3(0.2, 0.1, -0.05));
-    const std::vector<Vec3> data = test::sampleCloud(kDataPatch, 0.5, 15U, 0.01, truth);
+    const std::vector<Vec3> data = test::sampleCloud(Patch{-3.0, 9.0, -6.0, 6.0}, 0.4, 15U, 0.01, truth);
     IcpResult a;
     IcpResult b;
     {

@@ -72,8 +72,8 @@ struct IcpConfig {
     double min_sigma_m = 0.001;
     // Iterations at most (1..200); convergence when the step is below both (> 0).
     std::int32_t max_iterations = 50;
-    double converge_rotation_rad = 1e-6;
-    double converge_translation_m = 1e-5;
+    double converge_rotation_rad = 1e-5;
+    double converge_translation_m = 1e-4;
     // Refusals: overlap (fraction of the data points used that have a correspondence
     // within min_gate_m at the final pose) below min_overlap (0, 1] -> kDegenerate;
     // fewer correspondences than min_correspondences (>= 12) -> kNoData; the normal matrix,
