@@ -90,8 +90,15 @@ TEST(SymmetricEigen, RecoversAConstructedDecomposition) {
         for (int i = 0; i < 36; ++i) {
             m(i / 6, i % 6) = rng.uniform01() - 0.5;
         }
-        const Eigen::HouseholderQR<Eigen::Matrix<double, 6, 6>> qr(m);
-        const Eigen::Matrix<double, 6, 6> q = qr.householderQ();
+        // An orthonormal basis by Gram-Schmidt (Eigen's HouseholderQR trips a GCC loop
+        // warning on the 32-bit SPARC build).
+        Eigen::Matrix<double, 6, 6> q = m;
+        for (int c = 0; c < 6; ++c) {
+            for (int prev = 0; prev < c; ++prev) {
+                q.col(c) -= q.col(prev).dot(q.col(c)) * q.col(prev);
+            }
+            q.col(c).normalize();
+        }
         Eigen::Matrix<double, 6, 1> lambda;
         lambda << 1e-6, 0.01, 0.5, 1.0, 3.0, 100.0;
         const Eigen::Matrix<double, 6, 6> a = q * lambda.asDiagonal() * q.transpose();

@@ -167,7 +167,13 @@ void PointToPlaneIcp::publish(const Linearisation& lin, const RigidPose& pose, I
     result.inliers = lin.inliers;
     result.rms_residual_m = lin.inliers > 0 ? std::sqrt(lin.sum_inlier_r2 / static_cast<double>(lin.inliers)) : 0.0;
     const double s2 = lin.sum_w_r2 / static_cast<double>(lin.correspondences - 6);
-    const Mat6 centroidCovariance = s2 * lin.A.ldlt().solve(Mat6::Identity());
+    // A^-1 column by column: a vector right-hand side keeps Eigen on its fixed-size path
+    // (a matrix one references the blocked triangular solver, which can allocate).
+    const Eigen::LDLT<Mat6> ldlt(lin.A);
+    Mat6 centroidCovariance;
+    for (int i = 0; i < 6; ++i) {
+        centroidCovariance.col(i) = s2 * ldlt.solve(Vec6::Unit(i));
+    }
     // Centroid parameters (w, dc) to the pose's (w, dt_m): dt_m = dc - (t_m - c) x w.
     Mat6 g = Mat6::Identity();
     g.block<3, 3>(3, 0) = -skew(pose.t_m - lin.centroid_m);

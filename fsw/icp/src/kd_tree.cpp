@@ -42,7 +42,7 @@ struct StackEntry {
 std::int32_t KdTree::depthFor(std::size_t n, std::int32_t leafSize) noexcept {
     std::int32_t d = 0;
     const auto leaf = static_cast<std::size_t>(leafSize < 1 ? 1 : leafSize);
-    while (d < kMaxTreeDepth && ((n + (std::size_t{1} << d) - 1U) >> d) > leaf) {
+    while (d < kMaxTreeDepth && ((n + (std::size_t{1} << d) - 1U) >> d) > leaf) {  // bound: kMaxTreeDepth
         ++d;
     }
     return d;
@@ -136,6 +136,7 @@ void KdTree::scanLeaf(std::int32_t lo, std::int32_t hi, double qx, double qy, do
         }
         // Insertion into the sorted list (distance, then index); the last one drops out when full.
         std::int32_t pos = out.count;
+        // bound: out.count <= kMaxNeighbours steps
         while (pos > 0 && (out.distance2[pos - 1] > d2 || (out.distance2[pos - 1] == d2 && out.index[pos - 1] > idx))) {
             --pos;
         }
@@ -164,7 +165,8 @@ void KdTree::nearest(double qx, double qy, double qz, std::int32_t k, double rad
     std::int32_t top = 0;
     stack[top++] = StackEntry{0, 0, 0, static_cast<std::int32_t>(points_.size()), 0.0};
     std::int32_t leaves = 0;
-    while (top > 0) {
+    // Every node is pushed at most once, and at most max_leaves leaves are scanned.
+    while (top > 0) {  // bound: 2^(depth+1) - 1 pops
         const StackEntry e = stack[--top];
         const double worst = out.count == k ? out.distance2[k - 1] : radius2;
         if (e.plane2 > worst) {
