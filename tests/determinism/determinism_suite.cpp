@@ -14,6 +14,7 @@
 #include "vtm/entropy/local_entropy.hpp"
 #include "vtm/entropy/registration.hpp"
 #include "vtm/features/features.hpp"
+#include "vtm/icp/icp.hpp"
 #include "vtm/motion/motion_refiner.hpp"
 #include "vtm/octree/height_products.hpp"
 #include "vtm/octree/octree.hpp"
@@ -835,7 +836,6 @@ std::uint64_t entropySection() noexcept {
     return h.value();
 }
 
-
 // The terrain octree and its height products (issue 25): 4,000 integer-generated samples
 // of a 32 m cube (footprints 2 cm..40 m, four sources, a few refused), every node and
 // counter, then products at three levels (mean reducer): every bin's highest, lowest,
@@ -906,6 +906,87 @@ std::uint64_t octreeSection() noexcept {
     return h.value();
 }
 
+// Point-to-plane ICP (issue 25 item 2): a 16 m model of rolling hills and rocks (height
+// field from vtm::math sin/cos and integer hashing, jittered grid, noise from vtm::Random)
+// and a 12 m data cloud moved by a known rotation and translation. The refined pose, its
+// covariance and the fit's figures; then a flat model's refusal.
+double icpTerrainZ(double x, double y) noexcept {
+    double z = -(0.8 * math::sin(0.31 * x + 0.5) * math::cos(0.23 * y - 0.3) + 0.35 * math::sin(0.67 * x + 0.52 * y));
+    for (std::uint64_t k = 0; k < 12U; ++k) {
+        const std::uint64_t h = mixBits64(k + 7U);
+        const double cx = -8.0 + static_cast<double>(h % 1600U) * 0.01;
+        const double cy = -8.0 + static_cast<double>((h >> 16U) % 1600U) * 0.01;
+        const double r = 0.3 + static_cast<double>((h >> 32U) % 40U) * 0.01;
+        const double d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+        z -= d2 < r * r ? 0.7 * math::sqrt(r * r - d2) : 0.0;
+    }
+    return z;
+}
+
+std::size_t icpCloud(double x0, double y0, double side, std::int32_t n, std::uint64_t seed, const RigidPose& model_from_data,
+                     bool flat, Vec3* out) noexcept {
+    Random rng(seed);
+    const double step = side / static_cast<double>(n);
+    std::size_t count = 0U;
+    for (std::int32_t j = 0; j < n; ++j) {
+        for (std::int32_t i = 0; i < n; ++i) {
+            const double x = x0 + (i + 0.5 + 0.8 * (rng.uniform01() - 0.5)) * step;
+            const double y = y0 + (j + 0.5 + 0.8 * (rng.uniform01() - 0.5)) * step;
+            const double z = (flat ? 0.0 : icpTerrainZ(x, y)) + rng.normal(0.0, 0.01);
+            out[count++] = model_from_data.R.transpose() * (Vec3(x, y, z) - model_from_data.t_m);
+        }
+    }
+    return count;
+}
+
+void hashIcpResult(const Status& s, const icp::IcpResult& r, Hasher& h) noexcept {
+    h.addI64(static_cast<std::int64_t>(s.code()));
+    h.addI64(s.detail());
+    for (std::int32_t i = 0; i < 9; ++i) {
+        h.addDouble(r.model_from_data.R(i / 3, i % 3));
+    }
+    for (std::int32_t i = 0; i < 3; ++i) {
+        h.addDouble(r.model_from_data.t_m(i));
+    }
+    for (std::int32_t i = 0; i < 36; ++i) {
+        h.addDouble(r.covariance(i / 6, i % 6));
+    }
+    h.addDouble(r.rms_residual_m);
+    h.addDouble(r.sigma_m);
+    h.addDouble(r.overlap);
+    h.addDouble(r.eigen_ratio);
+    h.addI64(r.correspondences);
+    h.addI64(r.inliers);
+    h.addI64(r.iterations);
+    h.addI64(static_cast<std::int64_t>(r.stop));
+}
+
+std::uint64_t icpSection() noexcept {
+    static Vec3 model[1600];
+    static Vec3 data[900];
+    RigidPose truth;
+    truth.R = Quat(1.0, 0.01, -0.007, 0.02).normalized().toRotationMatrix();
+    truth.t_m = Vec3(0.3, -0.2, 0.08);
+    Hasher h;
+    icp::IcpConfig c;
+    c.max_model_points = 1600;
+    c.max_data_points = 900;
+    static std::byte pool[256U << 10U];
+    Arena arena(pool, sizeof pool);
+    static icp::PointToPlaneIcp reg;
+    h.addI64(static_cast<std::int64_t>(reg.init(c, arena).code()));
+    for (const bool flat : {false, true}) {
+        const std::size_t nm = icpCloud(-8.0, -8.0, 16.0, 40, 21U, RigidPose{}, flat, model);
+        const std::size_t nd = icpCloud(-4.0, -6.0, 12.0, 30, 22U, truth, flat, data);
+        h.addI64(static_cast<std::int64_t>(reg.setModel(Span<const Vec3>(model, nm)).code()));
+        h.addI64(reg.modelNormalCount());
+        icp::IcpResult r;
+        const Status s = reg.registerData(Span<const Vec3>(data, nd), RigidPose{}, r);
+        hashIcpResult(s, r, h);
+    }
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -921,6 +1002,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kDescent: return "descent";
         case Section::kEntropy: return "entropy";
         case Section::kOctree: return "octree";
+        case Section::kIcp: return "icp";
     }
     return "unknown";
 }
@@ -938,6 +1020,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kDescent: return descentSection();
         case Section::kEntropy: return entropySection();
         case Section::kOctree: return octreeSection();
+        case Section::kIcp: return icpSection();
     }
     return 0U;
 }

@@ -14,7 +14,8 @@
 //     refined motion, rectification tables and images) and triangulation into a height map;
 //   - the descent plane sweep on a rendered 12-bit nadir pair (depth, score, reason);
 //   - local-entropy images and a multi-modal registration on a generated pair;
-//   - the terrain octree (every node) and its height products at three levels.
+//   - the terrain octree (every node) and its height products at three levels;
+//   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures).
 #pragma once
 
 #include <cstdint>
@@ -33,8 +34,9 @@ enum class Section : std::uint8_t {
     kDescent = 8,
     kEntropy = 9,
     kOctree = 10,
+    kIcp = 11,
 };
-constexpr int kSectionCount = 11;
+constexpr int kSectionCount = 12;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;

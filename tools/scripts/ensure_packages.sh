@@ -19,4 +19,4 @@ ensure_packages() {
 }
 
 # The packages every host build needs (tools/ and tests/ included).
-VTM_HOST_PACKAGES="cmake ninja-build g++ googletest libeigen3-dev libstb-dev libcli11-dev libopencv-dev libbenchmark-dev libgdal-dev gdal-bin python3"
+VTM_HOST_PACKAGES="cmake ninja-build g++ googletest libeigen3-dev libstb-dev libcli11-dev libopencv-dev libopencv-contrib-dev libbenchmark-dev libgdal-dev gdal-bin python3"
