@@ -257,7 +257,7 @@ TEST(TerrainIntegrator, AModelOffTheMapIsRefusedAndChangesNothing) {
     ASSERT_NE(rig.integrator->stages().failed(), nullptr);
     EXPECT_EQ(rig.integrator->stages().failed()->stage, Stage::kMapModel);
     // The same stop half on the DEM's edge: ICP refuses the overlap by name; nothing changes.
-    const Stop edge = makeStop({7.0, 15.0, -4.0, 4.0}, 0.0, motion(0.0, 0.0, 0.0, Vec3::Zero()), 22U);
+    const Stop edge = makeStop({7.5, 15.5, -4.0, 4.0}, 0.0, motion(0.0, 0.0, 0.0, Vec3::Zero()), 22U);
     const Status st2 = rig.integrator->addModel(stopInput(edge, 1U, edge.guess, true), r);
     std::printf("[ edge ] %s (%lld), overlap %.2f\n", st2.reason(), static_cast<long long>(st2.detail()), r.icp.overlap);
     EXPECT_EQ(st2.code(), StatusCode::kDegenerate);
