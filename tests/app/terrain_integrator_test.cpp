@@ -43,7 +43,7 @@ IntegratorConfig testConfig() {
     c.products.reducer = terrain::Reducer::kMean;
     c.registration_level = 7;
     c.icp.max_model_points = 8192;
-    c.icp.max_data_points = 2048;
+    c.icp.max_data_points = 1536;
     c.max_input_points = 8192;
     return c;
 }
@@ -235,19 +235,22 @@ TEST(TerrainIntegrator, RegistersEachStopToTheMapAndFusesBetterThanTheNavigation
     for (std::int32_t p = 0; p < 3; ++p) {
         const Rms r_peer = rmsBetween(pr->map(p), pt->map(p));
         const Rms n_peer = rmsBetween(pn->map(p), pt->map(p));
+        std::printf("[ level %d ] vs true-pose map: registered %.4f m, navigation %.4f m (%lld bins)\n", pr->level(p),
+                    r_peer.rms_m, n_peer.rms_m, static_cast<long long>(r_peer.bins));
+        EXPECT_LE(r_peer.rms_m, peer_bound[p]);
+        EXPECT_GE(n_peer.rms_m, 3.0 * r_peer.rms_m);
+        EXPECT_EQ(r_peer.bins, pt->map(p).filledCells());
+        if (p == 2) {
+            continue;  // the surface at 0.125 m: 30,720 evaluations more under qemu for no new fact
+        }
         const std::vector<float> surface = surfaceAtCentres(pt->map(p));
         const Rms t_surf = rmsAgainstSurface(pt->map(p), surface);
         const Rms r_surf = rmsAgainstSurface(pr->map(p), surface);
         const Rms n_surf = rmsAgainstSurface(pn->map(p), surface);
-        std::printf("[ level %d ] vs true-pose map: registered %.4f m, navigation %.4f m (%lld bins); vs surface: "
-                    "true poses %.4f, registered %.4f, navigation %.4f m\n",
-                    pr->level(p), r_peer.rms_m, n_peer.rms_m, static_cast<long long>(r_peer.bins), t_surf.rms_m,
-                    r_surf.rms_m, n_surf.rms_m);
-        EXPECT_LE(r_peer.rms_m, peer_bound[p]);
-        EXPECT_GE(n_peer.rms_m, 3.0 * r_peer.rms_m);
+        std::printf("[ level %d ] vs the surface at bin centres: true poses %.4f, registered %.4f, navigation %.4f m\n",
+                    pr->level(p), t_surf.rms_m, r_surf.rms_m, n_surf.rms_m);
         EXPECT_LE(r_surf.rms_m, t_surf.rms_m + 0.005);
         EXPECT_GT(n_surf.rms_m, r_surf.rms_m + 0.01);
-        EXPECT_EQ(r_peer.bins, pt->map(p).filledCells());
     }
 }
 
