@@ -390,6 +390,10 @@ TEST(TerrainIntegrator, BadConfigsAreNamedAndTheWorkspaceFormulaIsExact) {
         TerrainIntegrator t;
         EXPECT_EQ(t.init(b.config, arena, clock, events).code(), StatusCode::kInvalidConfig) << b.field;
     }
+    const IntegratorConfig defaults;
+    EXPECT_TRUE(defaults.validate().isOk());
+    std::printf("[ default ] workspace %zu bytes, object %zu bytes\n", TerrainIntegrator::workspaceBytes(defaults),
+                sizeof(TerrainIntegrator));
     const IntegratorConfig good = testConfig();
     const std::size_t bytes = TerrainIntegrator::workspaceBytes(good);
     octree::ProductConfig grid;
