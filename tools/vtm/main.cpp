@@ -7,6 +7,7 @@
 //   vtm rectify    rectified pair from two images and their poses (wide_baseline_command.hpp)
 //   vtm descent    elevation map from two descent images (descent_command.hpp)
 //   vtm register   similarity between two images of different sensors (register_command.hpp)
+//   vtm integrate  terrain models registered and fused into height maps (integrate_command.hpp; host only)
 //   vtm eval       accuracy of a disparity map against ground truth (eval_command.hpp)
 //   vtm run        fly a simulated mission in process: products and report (run_command.hpp)
 // docs/tools.md describes the commands, the file formats and the exit codes.
@@ -24,6 +25,9 @@
 #include "wide_baseline_command.hpp"
 #include "descent_command.hpp"
 #include "register_command.hpp"
+#if VTM_WITH_INTEGRATE
+#include "integrate_command.hpp"
+#endif
 #include "run_command.hpp"
 
 namespace {
@@ -102,6 +106,10 @@ int main(int argc, char** argv) {
     CLI::App* descent = vtm::tools::addDescentCommand(app, descent_options);
     vtm::tools::RegisterOptions register_options;
     CLI::App* registration = vtm::tools::addRegisterCommand(app, register_options);
+#if VTM_WITH_INTEGRATE
+    vtm::tools::IntegrateOptions integrate_options;
+    CLI::App* integrate = vtm::tools::addIntegrateCommand(app, integrate_options);
+#endif
     vtm::tools::EvalOptions eval_options;
     CLI::App* eval = vtm::tools::addEvalCommand(app, eval_options);
     vtm::tools::RunOptions run_options;
@@ -139,6 +147,11 @@ int main(int argc, char** argv) {
     if (registration->parsed()) {
         return vtm::tools::runRegister(register_options);
     }
+#if VTM_WITH_INTEGRATE
+    if (integrate->parsed()) {
+        return vtm::tools::runIntegrate(integrate_options);
+    }
+#endif
     if (descent->parsed()) {
         return vtm::tools::runDescent(descent_options);
     }

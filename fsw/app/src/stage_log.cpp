@@ -17,6 +17,10 @@ const char* stageName(Stage stage) noexcept {
         case Stage::kRectify: return "rectify";
         case Stage::kStereo: return "stereo";
         case Stage::kTriangulate: return "triangulate";
+        case Stage::kMapModel: return "mapmodel";
+        case Stage::kRegister: return "register";
+        case Stage::kInsert: return "insert";
+        case Stage::kExtract: return "extract";
         case Stage::kNone: break;
     }
     return "none";

@@ -31,6 +31,11 @@ enum class Stage : std::uint8_t {
     kRectify = 9,      // quality: convergence of the refined pair, centidegrees
     kStereo = 10,      // quality: pixels with a disparity
     kTriangulate = 11, // quality: points triangulated
+    // TerrainIntegrator
+    kMapModel = 12,    // quality: points of the ICP model drawn from the map
+    kRegister = 13,    // quality: ICP correspondences at the final pose
+    kInsert = 14,      // quality: samples inserted into the octree
+    kExtract = 15,     // quality: bins with data in the finest product
 };
 constexpr std::uint16_t kEventStageBase = 0x0A00U;
 
