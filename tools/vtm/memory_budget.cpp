@@ -5,6 +5,7 @@
 #include "hal/file/file_limits.hpp"
 #include "hal/file/file_odometry.hpp"
 #include "vtm/app/descent_mapper.hpp"
+#include "vtm/app/terrain_integrator.hpp"
 #include "vtm/app/wide_baseline_mapper.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
@@ -35,6 +36,12 @@ std::size_t flightWideBaselineWorkspace() {
     return app::WideBaselineMapper::workspaceBytes(app::WideBaselineMapperConfig{});
 }
 
+// The terrain integrator in its default configuration: a 128 m octree of 65,536 nodes,
+// its height products, the 0.25 m registration grid and ICP (docs/integrator.md).
+std::size_t flightIntegratorWorkspace() {
+    return app::TerrainIntegrator::workspaceBytes(app::IntegratorConfig{});
+}
+
 const BudgetEntry kEntries[] = {
     {kF, "event log ring (hal::EventLog, 256 events)", "vtm_hal", sizeof(hal::EventLog)},
     {kF, "ML stereo workspace (1024x1024, 128 disparities)", "vtm_stereo", flightStereoWorkspace()},
@@ -42,6 +49,8 @@ const BudgetEntry kEntries[] = {
     {kF, "descent mapper workspace (1024x1024, 64 planes)", "vtm_app", flightDescentWorkspace()},
     {kF, "wide-baseline mapper object (app::WideBaselineMapper)", "vtm_app", sizeof(app::WideBaselineMapper)},
     {kF, "wide-baseline mapper workspace (1024x1024, coarse to fine)", "vtm_app", flightWideBaselineWorkspace()},
+    {kF, "terrain integrator object (app::TerrainIntegrator)", "vtm_app", sizeof(app::TerrainIntegrator)},
+    {kF, "terrain integrator workspace (128 m octree, products, ICP)", "vtm_app", flightIntegratorWorkspace()},
     {kP, "hal::FileCamera (1024 frame records)", "vtm_hal_file", sizeof(hal::FileCamera)},
     {kP, "hal::FileOdometry (4096 poses)", "vtm_hal_file", sizeof(hal::FileOdometry)},
     {kP, "frame file buffer (shared)", "vtm_hal_file", hal::file_limits::kMaxFrameFileBytes},
