@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "real_pair_support.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/ground/disparity_colormap.hpp"
@@ -31,19 +32,18 @@
 namespace vtm {
 namespace {
 
+using test::greyView;
+using test::rowStats;
+using test::RowStats;
+using test::siftMatches;
+using test::Workspace;
+
 const std::string kDir = std::string(VTM_SHARED_DATA_DIR) + "/msl_navcam/";
 const std::string kLeft = kDir + "NLB_524534514EDR_F0562034NCAM00280M_.jpeg";
 const std::string kRight = kDir + "NRB_524534514EDR_F0562034NCAM00280M_.jpeg";
 constexpr double kBaselineM = 0.42;  // README: the nominal Navcam stereo baseline
 constexpr double kHfovDeg = 45.0;    // README: 45 x 45 deg
 constexpr std::int32_t kSide = 1024;
-
-// Storage for a module's workspace: the arena over a vector sized by workspaceBytes.
-struct Workspace {
-    explicit Workspace(std::size_t bytes) : pool(bytes), arena(pool.data(), pool.size()) {}
-    std::vector<std::byte> pool;
-    Arena arena;
-};
 
 // The nominal prior: parallel axes, camera 2 0.42 m to camera 1's right (X_2 = X_1 - b x).
 CameraPair nominalPair() {
@@ -52,67 +52,6 @@ CameraPair nominalPair() {
     p.b_from_a.R = Mat3::Identity();
     p.b_from_a.t_m = Vec3(-kBaselineM, 0.0, 0.0);
     return p;
-}
-
-struct RowStats {
-    std::size_t count = 0;
-    double rms_px = 0.0;      // of |vd| <= 2 px (the rest: wrong matches)
-    double within1 = 0.0;     // share of all with |vd| <= 1 px
-    double median_abs = 0.0;  // of all
-};
-
-// Vertical disparity y_a - y_b of matches after rectification.
-RowStats rowStats(const rectify::Rectifier& r, const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
-    std::vector<double> vd;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        Vec2 ra, rb;
-        if (r.rectifyPixel(rectify::Rectifier::Side::kA, a[i], ra).isOk() &&
-            r.rectifyPixel(rectify::Rectifier::Side::kB, b[i], rb).isOk()) {
-            vd.push_back(ra.y() - rb.y());
-        }
-    }
-    RowStats s;
-    s.count = vd.size();
-    if (vd.empty()) return s;
-    double sum2 = 0.0;
-    std::size_t n2 = 0, n1 = 0;
-    std::vector<double> abs_vd;
-    for (double v : vd) {
-        abs_vd.push_back(std::fabs(v));
-        if (std::fabs(v) <= 2.0) { sum2 += v * v; ++n2; }
-        if (std::fabs(v) <= 1.0) ++n1;
-    }
-    std::nth_element(abs_vd.begin(), abs_vd.begin() + abs_vd.size() / 2, abs_vd.end());
-    s.median_abs = abs_vd[abs_vd.size() / 2];
-    s.rms_px = n2 > 0 ? std::sqrt(sum2 / static_cast<double>(n2)) : 0.0;
-    s.within1 = static_cast<double>(n1) / static_cast<double>(vd.size());
-    return s;
-}
-
-// SIFT matches of the two images (ratio test 0.75, mutual), found without the refinement.
-void siftMatches(const cv::Mat& left, const cv::Mat& right, std::vector<Vec2>& a, std::vector<Vec2>& b) {
-    cv::Ptr<cv::SIFT> sift = cv::SIFT::create(4000);
-    std::vector<cv::KeyPoint> ka, kb;
-    cv::Mat da, db;
-    sift->detectAndCompute(left, cv::noArray(), ka, da);
-    sift->detectAndCompute(right, cv::noArray(), kb, db);
-    cv::BFMatcher bf(cv::NORM_L2);
-    std::vector<std::vector<cv::DMatch>> ab, ba;
-    bf.knnMatch(da, db, ab, 2);
-    bf.knnMatch(db, da, ba, 1);
-    for (const auto& m : ab) {
-        if (m.size() < 2 || m[0].distance > 0.75F * m[1].distance) continue;
-        const auto& back = ba[static_cast<std::size_t>(m[0].trainIdx)];
-        if (back.empty() || back[0].trainIdx != m[0].queryIdx) continue;
-        const cv::Point2f pa = ka[static_cast<std::size_t>(m[0].queryIdx)].pt;
-        const cv::Point2f pb = kb[static_cast<std::size_t>(m[0].trainIdx)].pt;
-        a.emplace_back(pa.x, pa.y);
-        b.emplace_back(pb.x, pb.y);
-    }
-}
-
-ImageView<const std::uint8_t> greyView(const cv::Mat& m) {
-    return ImageView<const std::uint8_t>(m.ptr<std::uint8_t>(0), m.cols, m.rows);
 }
 
 class MslNavcam : public ::testing::Test {
