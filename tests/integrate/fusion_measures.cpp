@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
 
 #include "icp_scene.hpp"
 #include "vtm/ground/image_io.hpp"
@@ -36,44 +37,46 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-RigidPose Truth::mapFromStop(std::size_t k) const { return compose(descent_error, (*stops)[k].truth); }
-
-double Truth::elevationInMap(double north_m, double east_m) const {
-    // The site point s on the terrain with (E s).xy = (north, east), by fixed-point steps
-    // (E is a fraction of a degree from the identity: converges in a few).
-    Vec3 xy(north_m, east_m, 0.0);
-    Vec3 m = Vec3::Zero();
-    for (int it = 0; it < 6; ++it) {
-        const Vec3 s(xy.x(), xy.y(), -terrain->elevationAt(xy.x(), xy.y()));
-        m = descent_error.R * s + descent_error.t_m;
-        xy.x() += north_m - m.x();
-        xy.y() += east_m - m.y();
-    }
-    return -m.z();
+RigidPose Truth::mapFromModel(std::size_t k) const {
+    if (!isDescent(k)) return (*stops)[k].truth;
+    RigidPose inv;
+    inv.R = descent_error.R.transpose();
+    inv.t_m = -(inv.R * descent_error.t_m);
+    return inv;
 }
+
+std::vector<Vec3> Truth::modelPoints(std::size_t k) const {
+    if (!isDescent(k)) return (*stops)[k].points;
+    std::vector<Vec3> out;
+    for (const Vec3& p : descent->points) out.push_back(descent_error.R * p + descent_error.t_m);
+    return out;
+}
+
+double Truth::elevationInMap(double north_m, double east_m) const { return terrain->elevationAt(north_m, east_m); }
 
 double Truth::distanceToStops(double north_m, double east_m) const {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < stops->size(); ++k) {
-        const Vec3 p = mapFromStop(k).t_m;
+        const Vec3 p = (*stops)[k].truth.t_m;
         best = std::min(best, std::hypot(p.x() - north_m, p.y() - east_m));
     }
     return best;
 }
 
 double Truth::stepM(std::size_t k) const {
-    const std::size_t j = k == 0 ? 1 : k - 1;
+    const std::size_t j = k == 0 ? 1 : std::min(k, stops->size() - 1) - 1;
     return ((*stops)[k].truth.t_m - (*stops)[j].truth.t_m).norm();
 }
 
 Vec3 Truth::centroid(std::size_t k) const {
+    const std::vector<Vec3> pts = modelPoints(k);
     Vec3 c = Vec3::Zero();
-    for (const Vec3& p : (*stops)[k].points) c += p;
-    return c / static_cast<double>(std::max<std::size_t>(1U, (*stops)[k].points.size()));
+    for (const Vec3& p : pts) c += p;
+    return c / static_cast<double>(std::max<std::size_t>(1U, pts.size()));
 }
 
 PoseError poseError(const Truth& truth, std::size_t k, const RigidPose& map_from_model) {
-    const RigidPose t = truth.mapFromStop(k);
+    const RigidPose t = truth.mapFromModel(k);
     const Vec3 c = truth.centroid(k);
     PoseError e;
     e.rotation_deg = icp::test::rotationErrorDeg(map_from_model.R, t.R);
@@ -91,14 +94,17 @@ std::vector<PoseError> poseErrors(const Truth& truth, const std::vector<app::Add
 void printStopTable(const Truth& truth, const std::vector<app::AddResult>& reg, const std::vector<app::AddResult>& nav,
                     const std::vector<double>& seconds) {
     std::printf("\n| stop | points | step m | navigation error: rot deg / at centroid m | registered: rot deg | "
-                "translation mm | %% of step | overlap | RMS residual mm | map points | iterations | s |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+                "about site x / y / z deg | translation mm | %% of step | overlap | RMS residual mm | map points | iterations | s |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    // (The descent's step column is the last stops' step: its translation is also given in mm.)
     for (std::size_t k = 0; k < reg.size(); ++k) {
         const PoseError n = poseError(truth, k, nav[k].map_from_model);
         const PoseError r = poseError(truth, k, reg[k].map_from_model);
-        std::printf("| %zu | %zu | %.3f | %.3f / %.3f | %.4f%s | %.1f | %.2f%s | %.2f | %.1f | %lld | %d | %.2f |\n", k,
-                    (*truth.stops)[k].points.size(), truth.stepM(k), n.rotation_deg, n.translation_m, r.rotation_deg,
-                    r.rotation_deg <= kRotationTarget_deg ? "" : " (miss)", 1000.0 * r.translation_m,
+        const std::string name = truth.isDescent(k) ? "descent" : std::to_string(k) + (k == 0 ? " (reference)" : "");
+        const Vec3 v = icp::test::rotationErrorVector(reg[k].map_from_model.R, truth.mapFromModel(k).R) * (180.0 / M_PI);
+        std::printf("| %s | %zu | %.3f | %.3f / %.3f | %.4f%s | %.3f / %.3f / %.3f | %.1f | %.2f%s | %.2f | %.1f | %lld | %d | %.2f |\n", name.c_str(),
+                    truth.modelPoints(k).size(), truth.stepM(k), n.rotation_deg, n.translation_m, r.rotation_deg,
+                    r.rotation_deg <= kRotationTarget_deg ? "" : " (miss)", v.x(), v.y(), v.z(), 1000.0 * r.translation_m,
                     r.translation_percent, r.translation_percent <= kTranslationTarget_percent ? "" : " (miss)",
                     reg[k].icp.overlap, 1000.0 * reg[k].icp.rms_residual_m,
                     static_cast<long long>(reg[k].map_model_points), reg[k].icp.iterations, seconds[k]);
@@ -205,12 +211,22 @@ cv::Mat withNormals(const std::vector<Vec3>& pts) {  // as tests/icp/icp_peer_ev
 }  // namespace
 #endif
 
-void comparePeer(const Truth& truth, const DescentMap& descent, const std::vector<app::AddResult>& integrated) {
+namespace {
+// Every n/m-th point (the module's own subsample rule, index floor(i n / m)), moved by `pose`.
+std::vector<Vec3> subsample(const std::vector<Vec3>& pts, std::size_t m, const RigidPose& pose) {
+    const std::size_t n = pts.size();
+    m = std::min(n, m);
+    std::vector<Vec3> out;
+    for (std::size_t i = 0; i < m; ++i) out.push_back(pose.R * pts[i * n / m] + pose.t_m);
+    return out;
+}
+}  // namespace
+
+void comparePeer(const Truth& truth, const icp::IcpConfig& config, const std::vector<app::AddResult>& integrated) {
 #if !defined(VTM_HAVE_OPENCV_SURFACE_MATCHING)
-    (void)truth; (void)descent; (void)integrated;
+    (void)truth; (void)config; (void)integrated;
     std::printf("\nOpenCV peer skipped: OpenCV surface_matching (libopencv-contrib-dev) not found at configure time\n");
 #else
-    const icp::IcpConfig config = app::integratorIcpConfig();
     std::vector<std::byte> pool(icp::PointToPlaneIcp::workspaceBytes(config));
     Arena arena(pool.data(), pool.size());
     auto module = std::make_unique<icp::PointToPlaneIcp>();
@@ -218,32 +234,31 @@ void comparePeer(const Truth& truth, const DescentMap& descent, const std::vecto
         ADD_FAILURE() << "icp init";
         return;
     }
-    std::printf("\nSame clouds, same guess (model: the descent map's cells under the stop +- 2 m; data: the stop's "
-                "points, %d at most, evenly): rotation deg / translation %% of step at the centroid / ms\n"
-                "| stop | integrator (map: descent + stops before) | fsw/icp on these clouds | OpenCV ppf_match_3d::ICP | "
-                "better here |\n|---|---|---|---|---|\n", config.max_data_points);
+    const std::size_t cap = static_cast<std::size_t>(config.max_data_points);
+    std::printf("\nSame clouds, same guess: stop k (%zu points at most, evenly; guess its odometry) against stop k-1 at its "
+                "true pose (as many); the descent map (identity guess) against every stop at its true pose (%zu each). "
+                "Rotation deg / translation at the centroid mm / ms\n"
+                "| model | integrator (its map) | fsw/icp on these clouds | OpenCV ppf_match_3d::ICP | better here |\n"
+                "|---|---|---|---|---|\n", cap, cap / 8);
     int wins_module = 0, wins_opencv = 0;
-    for (std::size_t k = 0; k < truth.stops->size(); ++k) {
-        const StopMap& s = (*truth.stops)[k];
-        // Data: the module's own subsample rule (index floor(i n / m)), used for both.
-        const std::size_t n = s.points.size(), m = std::min<std::size_t>(n, config.max_data_points);
-        std::vector<Vec3> data, moved;
-        double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
-        for (std::size_t i = 0; i < m; ++i) {
-            data.push_back(s.points[i * n / m]);
-            moved.push_back(s.odometry.R * data.back() + s.odometry.t_m);
-            x0 = std::min(x0, moved.back().x()); x1 = std::max(x1, moved.back().x());
-            y0 = std::min(y0, moved.back().y()); y1 = std::max(y1, moved.back().y());
-        }
+    for (std::size_t k = 1; k <= truth.stops->size(); ++k) {
         std::vector<Vec3> scene;
-        for (const Vec3& p : descent.points) {
-            const Vec3 q = truth.descent_error.R * p + truth.descent_error.t_m;
-            if (q.x() >= x0 - 2.0 && q.x() <= x1 + 2.0 && q.y() >= y0 - 2.0 && q.y() <= y1 + 2.0) scene.push_back(q);
+        RigidPose guess;
+        if (truth.isDescent(k)) {
+            for (std::size_t j = 0; j < truth.stops->size(); ++j) {
+                const std::vector<Vec3> part = subsample((*truth.stops)[j].points, cap / 8, (*truth.stops)[j].truth);
+                scene.insert(scene.end(), part.begin(), part.end());
+            }
+        } else {
+            scene = subsample((*truth.stops)[k - 1].points, cap, (*truth.stops)[k - 1].truth);
+            guess = (*truth.stops)[k].odometry;
         }
+        const std::vector<Vec3> data = subsample(truth.modelPoints(k), cap, RigidPose{});
+        const std::vector<Vec3> moved = subsample(data, cap, guess);
         auto t0 = std::chrono::steady_clock::now();
         icp::IcpResult r;
         const Status st = module->setModel(Span<const Vec3>(scene.data(), scene.size())).isOk()
-                              ? module->registerData(Span<const Vec3>(data.data(), data.size()), s.odometry, r)
+                              ? module->registerData(Span<const Vec3>(data.data(), data.size()), guess, r)
                               : Status(StatusCode::kDegenerate, "setModel");
         const double module_ms = msSince(t0);
         const PoseError me = poseError(truth, k, r.model_from_data);
@@ -258,17 +273,19 @@ void comparePeer(const Truth& truth, const DescentMap& descent, const std::vecto
             for (int b = 0; b < 3; ++b) delta.R(a, b) = pose(a, b);
             delta.t_m(a) = pose(a, 3);
         }
-        const PoseError ce = poseError(truth, k, compose(delta, s.odometry));
+        const PoseError ce = poseError(truth, k, compose(delta, guess));
         const PoseError ie = poseError(truth, k, integrated[k].map_from_model);
         const bool module_better = me.rotation_deg / kRotationTarget_deg + me.translation_percent / kTranslationTarget_percent <
                                    ce.rotation_deg / kRotationTarget_deg + ce.translation_percent / kTranslationTarget_percent;
         (module_better ? wins_module : wins_opencv) += 1;
-        std::printf("| %zu | %.4f / %.2f | %.4f / %.2f / %.0f%s | %.4f / %.2f / %.0f%s | %s |\n", k, ie.rotation_deg,
-                    ie.translation_percent, me.rotation_deg, me.translation_percent, module_ms,
-                    st.isOk() ? "" : " (refused)", ce.rotation_deg, ce.translation_percent, cv_ms,
+        const std::string name = truth.isDescent(k) ? "descent" : "stop " + std::to_string(k);
+        const std::string refused = st.isOk() ? "" : std::string(" (refused: ") + st.reason() + ", " + std::to_string(st.detail()) + ")";
+        std::printf("| %s | %.4f / %.1f | %.4f / %.1f / %.0f%s | %.4f / %.1f / %.0f%s | %s |\n", name.c_str(),
+                    ie.rotation_deg, 1000.0 * ie.translation_m, me.rotation_deg, 1000.0 * me.translation_m, module_ms,
+                    refused.c_str(), ce.rotation_deg, 1000.0 * ce.translation_m, cv_ms,
                     rc == 0 ? "" : " (failed)", module_better ? "fsw/icp" : "OpenCV");
     }
-    std::printf("who wins (rotation / 0.05 deg + translation / 1 %%, lower is better): fsw/icp %d stops, OpenCV %d\n",
+    std::printf("who wins (rotation / 0.05 deg + translation / 1 %% of the step, lower is better): fsw/icp %d, OpenCV %d\n",
                 wins_module, wins_opencv);
 #endif
 }

@@ -19,21 +19,26 @@ constexpr double kTranslationTarget_percent = 1.0;  // of the stop-to-stop dista
 constexpr std::size_t kBands = 4;                   // 0-5, 5-10, 10-20, >= 20 m from the stops
 extern const char* const kBandNames[kBands];
 
-// The truth in the map frame (the descent's navigation frame: map = E site).
+// The truth in the map frame = stop 0's navigation frame = the site frame (the odometry
+// starts at the true first pose). Models 0..7 are the stops, model 8 the descent map
+// (its frame: descent = E site, E its navigation error).
 struct Truth {
     const sim::Terrain* terrain = nullptr;
     RigidPose descent_error;  // E
     const std::vector<StopMap>* stops = nullptr;
-    double descent_cell_m = 0.0;
+    const DescentMap* descent = nullptr;
 
-    [[nodiscard]] RigidPose mapFromStop(std::size_t k) const;
+    [[nodiscard]] bool isDescent(std::size_t k) const { return k == stops->size(); }
+    [[nodiscard]] RigidPose mapFromModel(std::size_t k) const;
+    // The model's points in its own frame (the descent's: its cells moved by E).
+    [[nodiscard]] std::vector<Vec3> modelPoints(std::size_t k) const;
     // The terrain's elevation (-z) in the map frame at map (north, east).
     [[nodiscard]] double elevationInMap(double north_m, double east_m) const;
     // Horizontal distance from map (north, east) to the nearest stop (true position).
     [[nodiscard]] double distanceToStops(double north_m, double east_m) const;
     // Stop k's distance to its neighbour (k - 1; stop 0: stop 1), true positions.
     [[nodiscard]] double stepM(std::size_t k) const;
-    // The stop's points' centroid in its own frame.
+    // The model's points' centroid in its own frame.
     [[nodiscard]] Vec3 centroid(std::size_t k) const;
 };
 
@@ -74,10 +79,11 @@ struct HeightReport {
 HeightReport heightReport(const Truth& truth, const octree::HeightProducts& products);
 void printHeightTables(const std::vector<const char*>& names, const std::vector<HeightReport>& reports);
 
-// OpenCV's cv::ppf_match_3d::ICP and fsw/icp's PointToPlaneIcp on the same clouds (the
-// descent map's cells under the stop, the stop's points) from the same guess (the odometry);
-// prints the table and who wins where. Prints a skip line without the contrib module.
-void comparePeer(const Truth& truth, const DescentMap& descent, const std::vector<app::AddResult>& integrated);
+// OpenCV's cv::ppf_match_3d::ICP and fsw/icp's PointToPlaneIcp on the same clouds from the
+// same guess: stop k (odometry guess) against stop k-1 at its true pose; the descent map
+// (identity guess) against all stops at their true poses. Prints the table and who wins
+// where; a skip line without the contrib module.
+void comparePeer(const Truth& truth, const icp::IcpConfig& config, const std::vector<app::AddResult>& integrated);
 
 // PNGs of the finest product (shaded relief) and its error against the terrain.
 void writePictures(const Truth& truth, const octree::HeightProducts& products, const std::string& dir);

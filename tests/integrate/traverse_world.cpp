@@ -47,8 +47,8 @@ std::string descentText(const std::string& traverse_text, std::int32_t px) {
            "\nhfov_deg 45\nbit_depth 12\nmount_position_m 0 0 0\nmount_tilt_deg -90\n"
            "[sensor]\nexposure_s 0.004\ngain_dn_per_e 0.04\nfull_well_e 60000\nread_noise_e 12\nvignetting 0.15\n"
            "[lighting]\nsun_azimuth_deg 200\nsun_elevation_deg 45\n"
-           "[motion]\nstart_m 5 -6\nheading_deg 0\nstart_altitude_m 60\nend_altitude_m 40\nframes 2\n"
-           "drift_m 0 12\nattitude_noise_deg 0\nspeed_m_per_s 10\n";
+           "[motion]\nstart_m 4 -4\nheading_deg 0\nstart_altitude_m 45\nend_altitude_m 30\nframes 2\n"
+           "drift_m 0 8\nattitude_noise_deg 0\nspeed_m_per_s 10\n";
 }
 
 // Rover stereo at one stop: two parallel pinholes `baseline_m` apart, centred on the mast
@@ -76,7 +76,7 @@ Status mapStop(const World& w, const sim::ScenarioFrame& mast, StopMap& out) {
         o.truth.depth_m = ImageView<float>(depth.data(), n, n);
         VTM_RETURN_IF_ERROR(sim::renderFrame(req, o, nullptr));
     }
-    stereo::Config sc;
+    stereo::Config sc = stereo::Config::conservative();  // left-right check (1 px), uniqueness 5 %
     sc.max_width = sc.max_height = n;
     sc.d_min = 0;
     sc.d_max = static_cast<std::int32_t>(std::ceil(model.fx_px * kBaseline_m / 1.5));  // nearest 1.5 m
@@ -131,8 +131,6 @@ Status mapStop(const World& w, const sim::ScenarioFrame& mast, StopMap& out) {
     if (!err.empty()) {
         std::nth_element(err.begin(), err.begin() + static_cast<std::ptrdiff_t>(err.size() / 2), err.end());
         out.median_abs_vs_truth_m = err[err.size() / 2];
-        std::sort(err.begin(), err.end());
-        std::fprintf(stderr, "DBG stop p90 %.3f p99 %.3f max %.3f\n", err[err.size() * 9 / 10], err[err.size() * 99 / 100], err.back());
     }
     return Status::ok();
 }
@@ -183,7 +181,6 @@ Status mapDescent(World& w) {
             const double north = map.centreNorthM(row), east = map.centreEastM(col);
             d.points.emplace_back(north, east, -static_cast<double>(e));
             const double err = e - w.terrain.elevationAt(north, east);
-            if ((row % 16) == 0 && (col % 16) == 0) std::fprintf(stderr, "DBG d %.1f %.1f %.3f\n", north, east, err);
             sum += err * err;
         }
     }

@@ -18,9 +18,9 @@
 namespace vtm::integrate_eval {
 
 struct Sizes {
-    std::int32_t stereo_px = 384;   // the rover pair's side
-    std::int32_t descent_px = 256;  // the nadir frames' side
-    std::int32_t samples_log2 = 9;  // terrain grids (traverse.scn: 10)
+    std::int32_t stereo_px = 512;    // the rover pair's side
+    std::int32_t descent_px = 512;   // the nadir frames' side
+    std::int32_t samples_log2 = 10;  // terrain grids (as traverse.scn)
 };
 
 // One stop: the points of its stereo map in its vehicle frame, the true and odometry
