@@ -290,6 +290,18 @@ void comparePeer(const Truth& truth, const icp::IcpConfig& config, const std::ve
 #endif
 }
 
+namespace {
+ground::GreyImage enlarged(const ground::GreyImage& in, std::int32_t f) {  // nearest neighbour, for display
+    ground::GreyImage out(in.width * f, in.height * f, in.channels, 0);
+    for (std::int32_t y = 0; y < out.height; ++y) {
+        for (std::int32_t x = 0; x < out.width; ++x) {
+            for (std::int32_t c = 0; c < in.channels; ++c) out.at(x, y, c) = in.at(x / f, y / f, c);
+        }
+    }
+    return out;
+}
+}  // namespace
+
 void writePictures(const Truth& truth, const octree::HeightProducts& products, const std::string& dir) {
     const terrain::HeightMap& map = products.map(products.count() - 1);
     ground::FloatImage elev = ground::elevationImage(map);
@@ -303,14 +315,14 @@ void writePictures(const Truth& truth, const octree::HeightProducts& products, c
     elev = ground::cropToFinite(elev);
     err = ground::cropToFinite(err);
     const ground::Outcome a = ground::writePng(dir + "/traverse_fused_0.25m.png",
-                                               ground::shadedRelief(elev, map.grid().cell_m));
+                                               enlarged(ground::shadedRelief(elev, map.grid().cell_m), 3));
     // Error: grey 128 = 0, +-0.25 m to white / black; no data black.
     ground::GreyImage g(err.width, err.height, 1, 0);
     for (std::size_t i = 0; i < err.pixels.size(); ++i) {
         const float e = err.pixels[i];
         if (std::isfinite(e)) g.pixels[i] = static_cast<std::uint8_t>(std::clamp(128.0 + 512.0 * e, 1.0, 255.0));
     }
-    const ground::Outcome b = ground::writePng(dir + "/traverse_fused_error_0.25m.png", g);
+    const ground::Outcome b = ground::writePng(dir + "/traverse_fused_error_0.25m.png", enlarged(g, 3));
     std::printf("pictures: %s, %s\n", a.ok ? "traverse_fused_0.25m.png" : a.error.c_str(),
                 b.ok ? "traverse_fused_error_0.25m.png" : b.error.c_str());
 }
