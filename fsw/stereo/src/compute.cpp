@@ -54,9 +54,10 @@ std::int32_t searchCentre(const Work& k, const std::int16_t* priorRow, std::int3
 }
 
 // Pushes template row y' (or a row of zero cost below the image) into ring slot `slot`,
-// updating the column sums (window_sums.hpp). With a prior, pixel x reads the DT row
-// around its own centre x - prior(x, y').
-void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t y, std::int32_t slot) {
+// updating the column sums, and when `emit` the window sums and best disparities of row
+// y' - half (window_sums.hpp). With a prior, pixel x reads the DT row around its own
+// centre x - prior(x, y').
+void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t y, std::int32_t slot, bool emit) {
     const Plan& p = k.p;
     const std::size_t slotBytes = static_cast<std::size_t>(p.width) * static_cast<std::size_t>(p.slotStride);
     const std::int16_t* priorRow = (k.prior.valid() && leftRow != nullptr) ? k.prior.row(y) : nullptr;
@@ -64,8 +65,9 @@ void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t y, std
     for (std::int32_t x = 0; x < k.w && leftRow != nullptr; ++x) {
         k.offset[x] = (leftRow[x] >> p.binShift) * p.dtStride + p.padLeft + searchCentre(k, priorRow, x) - k.c.d_max;
     }
+    const detail::SearchRow row{k.winSums, k.best, k.bestIndex};
     detail::pushCostRow(p, k.w, k.dtRow, leftRow != nullptr ? k.offset : nullptr,
-                        k.costRing + static_cast<std::size_t>(slot) * slotBytes, k.colSums);
+                        k.costRing + static_cast<std::size_t>(slot) * slotBytes, k.colSums, emit ? &row : nullptr);
 }
 
 // The window sum of pixel x at disparity index j (of the completed row).
@@ -226,7 +228,6 @@ Decision decide(const Work& k, std::int32_t x, std::int32_t centre) {
 
 void emitRow(const Work& k, std::int32_t y, const DisparityOutput& out, StereoStats* stats) {
     const std::int16_t* priorRow = k.prior.valid() ? k.prior.row(y) : nullptr;
-    detail::windowSumsAndBest(k.p, k.w, k.colSums, k.winSums, k.best, k.bestIndex);
     searchRow(k, priorRow);
     std::int16_t* disp = out.disparity_px16.row(y);
     float* sigma = out.sigma_px.valid() ? out.sigma_px.row(y) : nullptr;
@@ -321,7 +322,7 @@ void streamRows(const Work& k, const DisparityOutput& out, StereoStats* stats) {
             detail::distanceTransformRowY(p, detail::RowGeometry{yIn, k.h, k.w, binUsed}, k.dtRing, k.table,
                                           k.dtRow);
         }
-        pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn, yIn % (2 * p.half + 1));
+        pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn, yIn % (2 * p.half + 1), yIn >= p.half);
         if (yIn >= p.half) {
             emitRow(k, yIn - p.half, out, stats);
         }

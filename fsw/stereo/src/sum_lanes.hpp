@@ -18,12 +18,15 @@
 
 namespace vtm::stereo::detail {
 
-#if defined(__SSE2__) || defined(__ARM_NEON)
+// VTM_STEREO_SUM_WORD_BITS (32 or 64) forces a scalar word: how the host tests the
+// 32- and 64-bit paths of the other targets (tests/stereo, docs/stereo.md "Cost").
+#if !defined(VTM_STEREO_SUM_WORD_BITS) && (defined(__SSE2__) || defined(__ARM_NEON))
 // Targets with 128-bit SIMD (x86-64 SSE2, aarch64 NEON): eight sums to a GCC vector.
 #define VTM_STEREO_VECTOR_SUMS 1
 typedef std::uint16_t SumWord __attribute__((vector_size(16)));  // NOLINT(modernize-use-using)
 constexpr SumWord kLowBytes = {0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU, 0xFFU};
-#elif UINTPTR_MAX > 0xFFFFFFFFU
+#elif (defined(VTM_STEREO_SUM_WORD_BITS) && VTM_STEREO_SUM_WORD_BITS == 64) || \
+    (!defined(VTM_STEREO_SUM_WORD_BITS) && UINTPTR_MAX > 0xFFFFFFFFU)
 #define VTM_STEREO_VECTOR_SUMS 0
 using SumWord = std::uint64_t;
 constexpr SumWord kLowBytes = 0x00FF00FF00FF00FFU;

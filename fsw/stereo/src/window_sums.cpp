@@ -37,7 +37,17 @@ struct Best {
     std::int32_t index = 0;
     // Pixel sum position q with value v; padding slots (j < 0) are never taken.
     void take(std::int32_t disparities, std::int32_t q, std::int32_t v) noexcept {
-        const std::int32_t j = disparities - 1 - slotOfPosition(q);
+        takeIndex(disparities - 1 - slotOfPosition(q), v);
+    }
+    // The kLanes sums of the word at position q (a multiple of kLanes): its lanes hold
+    // every other slot from slotOfPosition(q).
+    void takeWord(std::int32_t disparities, std::int32_t q, const std::uint16_t* lanes) noexcept {
+        const std::int32_t j0 = disparities - 1 - slotOfPosition(q);
+        for (std::int32_t i = 0; i < kLanes; ++i) {
+            takeIndex(j0 - 2 * i, lanes[i]);
+        }
+    }
+    void takeIndex(std::int32_t j, std::int32_t v) noexcept {
         if (j >= 0 && (v < cost || (v == cost && j < index))) {
             cost = v;
             index = j;
@@ -74,17 +84,16 @@ private:
 };
 #else
 // A stored word of the pixel's sums (positions q .. q + kLanes - 1) against the best so
-// far; its lanes are read back from `sums` only when one may be at most the best.
+// far; its lanes are read back from `sums` only when one may be at most the best (marked
+// unlikely, so that the hot loop carries no per-lane disparity indices).
 class BestTracker {
 public:
     explicit BestTracker(std::int32_t disparities) noexcept : disparities_(disparities) {}
     void consider(const std::uint16_t* sums, std::int32_t q, SumWord w) noexcept {
-        if (!anyLaneAtMost(w, threshold_)) {
+        if (__builtin_expect(static_cast<long>(anyLaneAtMost(w, threshold_)), 0L) == 0L) {
             return;
         }
-        for (std::int32_t i = 0; i < kLanes; ++i) {
-            best_.take(disparities_, q + i, sums[q + i]);
-        }
+        best_.takeWord(disparities_, q, sums + q);
         threshold_ = atMostThreshold(best_.cost);
     }
     [[nodiscard]] Best finish() const noexcept { return best_; }
@@ -107,68 +116,147 @@ void paddingMasks(const Plan& p, std::int32_t tail, SumWord* masks) noexcept {
     masks[1] = loadWord(lanes + kLanes);
 }
 
-}  // namespace
+// The buffers and constants of one row's pass.
+struct RowPass {
+    const Plan& p;
+    std::int32_t words;     // cost words per pixel
+    std::int32_t tail;      // first sum position of the last word group when it has padding, else all
+    SumWord pad[2];         // paddingMasks() of that group
+    std::uint8_t* ring;     // this row's ring slot
+    std::uint16_t* colSums;
+    const SearchRow* out;   // nullptr: push only
+};
 
-void pushCostRow(const Plan& p, std::int32_t width, const std::uint8_t* dtRow, const std::int32_t* costs,
-                 std::uint8_t* ring, std::uint16_t* colSums) noexcept {
-    const std::int32_t words = costWords(p);
-    for (std::int32_t x = 0; x < width; ++x) {
-        std::uint8_t* slot = ring + at(x, p.slotStride);
-        std::uint16_t* col = colSums + at(x + p.half, p.slotStride);
-        if (costs == nullptr) {
-            for (std::int32_t g = 0; g < words; ++g) {
-                updateColumn(col + g * kWordBytes, loadWord(slot + g * kWordBytes), SumWord{0});
-                storeWord(slot + g * kWordBytes, SumWord{0});
-            }
-            continue;
-        }
-        const std::uint8_t* src = dtRow + costs[x];
-        for (std::int32_t g = 0; g < words; ++g) {
-            const SumWord n = loadWord(src + g * kWordBytes);
-            updateColumn(col + g * kWordBytes, loadWord(slot + g * kWordBytes), n);
-            storeWord(slot + g * kWordBytes, n);
-        }
+std::uint16_t* colOf(const RowPass& r, std::int32_t paddedColumn) noexcept {
+    return r.colSums + at(paddedColumn, r.p.slotStride);
+}
+
+// Pushes image column x: ring slot and column sums (costs: its D costs, nullptr: zero).
+void pushColumn(const RowPass& r, std::int32_t x, const std::uint8_t* costs) noexcept {
+    std::uint8_t* slot = r.ring + at(x, r.p.slotStride);
+    std::uint16_t* col = colOf(r, x + r.p.half);
+    for (std::int32_t g = 0; g < r.words; ++g) {
+        const SumWord n = costs != nullptr ? loadWord(costs + g * kWordBytes) : SumWord{};
+        updateColumn(col + g * kWordBytes, loadWord(slot + g * kWordBytes), n);
+        storeWord(slot + g * kWordBytes, n);
     }
 }
 
-void windowSumsAndBest(const Plan& p, std::int32_t width, const std::uint16_t* colSums, std::uint16_t* winSums,
-                       std::int32_t* best, std::int16_t* bestIndex) noexcept {
-    const std::int32_t positions = 2 * costWords(p) * kLanes;
-    const std::int32_t tail = p.disparities % kWordBytes == 0 ? positions : positions - 2 * kLanes;
-    SumWord pad[2] = {};
-    paddingMasks(p, tail, pad);
-    const std::int32_t span = 2 * p.half;
-    const auto stride = static_cast<std::ptrdiff_t>(p.slotStride);
-    for (std::int32_t x = 0; x < width; ++x) {
-        std::uint16_t* sums = winSums + at(x, p.slotStride);
-        BestTracker tracker(p.disparities);
-        if (x == 0) {  // the first window, column by column
-            for (std::int32_t q = 0; q < positions; q += kLanes) {
-                SumWord s{};
-                for (std::int32_t i = 0; i <= span; ++i) {
-                    s += loadWord(colSums + at(i, p.slotStride) + q);
-                }
-                storeWord(sums + q, s);
-                tracker.consider(sums, q, q < tail ? s : s | pad[(q - tail) / kLanes]);
-            }
-        } else {  // the previous window, less the column that leaves, plus the one that enters
-            const std::uint16_t* prev = sums - stride;
-            const std::uint16_t* leaving = colSums + at(x - 1, p.slotStride);
-            const std::uint16_t* entering = leaving + (span + 1) * stride;
-            for (std::int32_t q = 0; q < tail; q += kLanes) {
-                const SumWord s = loadWord(prev + q) - loadWord(leaving + q) + loadWord(entering + q);
-                storeWord(sums + q, s);
-                tracker.consider(sums, q, s);
-            }
-            for (std::int32_t q = tail; q < positions; q += kLanes) {
-                const SumWord s = loadWord(prev + q) - loadWord(leaving + q) + loadWord(entering + q);
-                storeWord(sums + q, s);
-                tracker.consider(sums, q, s | pad[(q - tail) / kLanes]);
-            }
+void finishPixel(const RowPass& r, std::int32_t e, const BestTracker& tracker) noexcept {
+    const Best b = tracker.finish();
+    r.out->best[e] = b.cost;
+    r.out->bestIndex[e] = static_cast<std::int16_t>(b.index);
+}
+
+// Pixel 0's window sums, column by column (its columns are pushed).
+void firstWindow(const RowPass& r) noexcept {
+    const std::int32_t positions = 2 * r.words * kLanes;
+    std::uint16_t* sums = r.out->winSums;
+    BestTracker tracker(r.p.disparities);
+    for (std::int32_t q = 0; q < positions; q += kLanes) {
+        SumWord s{};
+        for (std::int32_t i = 0; i <= 2 * r.p.half; ++i) {
+            s += loadWord(colOf(r, i) + q);
         }
-        const Best b = tracker.finish();
-        best[x] = b.cost;
-        bestIndex[x] = static_cast<std::int16_t>(b.index);
+        storeWord(sums + q, s);
+        tracker.consider(sums, q, q < r.tail ? s : s | r.pad[(q - r.tail) / kLanes]);
+    }
+    finishPixel(r, 0, tracker);
+}
+
+// Pixel e >= 1: pixel e - 1's window sums, less the column that leaves, plus the one that
+// enters (already pushed: columns right of the image, which are zero).
+void slideWindow(const RowPass& r, std::int32_t e) noexcept {
+    const std::int32_t positions = 2 * r.words * kLanes;
+    std::uint16_t* sums = r.out->winSums + at(e, r.p.slotStride);
+    const std::uint16_t* prev = sums - r.p.slotStride;
+    const std::uint16_t* leaving = colOf(r, e - 1);
+    const std::uint16_t* entering = colOf(r, e + 2 * r.p.half);
+    BestTracker tracker(r.p.disparities);
+    for (std::int32_t q = 0; q < positions; q += kLanes) {
+        const SumWord s = loadWord(prev + q) - loadWord(leaving + q) + loadWord(entering + q);
+        storeWord(sums + q, s);
+        tracker.consider(sums, q, q < r.tail ? s : s | r.pad[(q - r.tail) / kLanes]);
+    }
+    finishPixel(r, e, tracker);
+}
+
+// One cost word of pushColumnAndSlide: the new column sums go straight into the window
+// sums of pixel e (its entering column).
+inline void pushAndSlideWord(std::uint8_t* slot, std::uint16_t* col, const std::uint16_t* prev,
+                             const std::uint16_t* leaving, std::uint16_t* sums, std::int32_t q, SumWord n,
+                             SumWord pad0, SumWord pad1, BestTracker& tracker) noexcept {
+    const SumWord o = loadWord(slot);
+    storeWord(slot, n);
+    const SumWord even = loadWord(col) - evenBytes(o) + evenBytes(n);
+    const SumWord odd = loadWord(col + kLanes) - oddBytes(o) + oddBytes(n);
+    storeWord(col, even);
+    storeWord(col + kLanes, odd);
+    const SumWord s0 = loadWord(prev + q) - loadWord(leaving + q) + even;
+    const SumWord s1 = loadWord(prev + q + kLanes) - loadWord(leaving + q + kLanes) + odd;
+    storeWord(sums + q, s0);
+    storeWord(sums + q + kLanes, s1);
+    tracker.consider(sums, q, s0 | pad0);
+    tracker.consider(sums, q + kLanes, s1 | pad1);
+}
+
+// Pushes image column x = e + half and slides pixel e >= 1's window onto it (kZero: a
+// row of zero cost, costs unused).
+template <bool kZero>
+void pushColumnAndSlide(const RowPass& r, std::int32_t x, const std::uint8_t* costs) noexcept {
+    const std::int32_t e = x - r.p.half;
+    std::uint8_t* slot = r.ring + at(x, r.p.slotStride);
+    std::uint16_t* col = colOf(r, x + r.p.half);
+    std::uint16_t* sums = r.out->winSums + at(e, r.p.slotStride);
+    const std::uint16_t* prev = sums - r.p.slotStride;
+    const std::uint16_t* leaving = colOf(r, e - 1);
+    BestTracker tracker(r.p.disparities);
+    const std::int32_t full = r.tail / kWordBytes;  // words without padding
+    for (std::int32_t g = 0; g < full; ++g) {
+        const SumWord n = kZero ? SumWord{} : loadWord(costs + g * kWordBytes);
+        pushAndSlideWord(slot + g * kWordBytes, col + g * kWordBytes, prev, leaving, sums, g * kWordBytes, n,
+                         SumWord{}, SumWord{}, tracker);
+    }
+    for (std::int32_t g = full; g < r.words; ++g) {  // the last word, when it has padding
+        const SumWord n = kZero ? SumWord{} : loadWord(costs + g * kWordBytes);
+        pushAndSlideWord(slot + g * kWordBytes, col + g * kWordBytes, prev, leaving, sums, g * kWordBytes, n,
+                         r.pad[0], r.pad[1], tracker);
+    }
+    finishPixel(r, e, tracker);
+}
+
+}  // namespace
+
+void pushCostRow(const Plan& p, std::int32_t width, const std::uint8_t* dtRow, const std::int32_t* costs,
+                 std::uint8_t* ring, std::uint16_t* colSums, const SearchRow* out) noexcept {
+    RowPass r{p, costWords(p), 0, {}, ring, colSums, out};
+    const std::int32_t positions = 2 * r.words * kLanes;
+    r.tail = p.disparities % kWordBytes == 0 ? positions : positions - 2 * kLanes;
+    paddingMasks(p, r.tail, r.pad);
+    const auto costsOf = [&](std::int32_t x) { return costs != nullptr ? dtRow + costs[x] : nullptr; };
+    // Pixel e = x - half is complete once column x is pushed.
+    for (std::int32_t x = 0; x < width; ++x) {
+        if (out != nullptr && x - p.half >= 1) {
+            if (costs != nullptr) {
+                pushColumnAndSlide<false>(r, x, dtRow + costs[x]);
+            } else {
+                pushColumnAndSlide<true>(r, x, nullptr);
+            }
+            continue;
+        }
+        pushColumn(r, x, costsOf(x));
+        if (out != nullptr && x == p.half) {
+            firstWindow(r);
+        }
+    }
+    if (out == nullptr) {
+        return;
+    }
+    if (width <= p.half) {
+        firstWindow(r);
+    }
+    for (std::int32_t e = (width - p.half > 1 ? width - p.half : 1); e < width; ++e) {
+        slideWindow(r, e);
     }
 }
 

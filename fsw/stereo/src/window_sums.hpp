@@ -20,17 +20,21 @@ inline std::size_t sumIndex(const Plan& p, std::int32_t x, std::int32_t j) noexc
            static_cast<std::size_t>(sumPosition(p.disparities - 1 - j));
 }
 
+// Where a completed row's window sums and best disparities go.
+struct SearchRow {
+    std::uint16_t* winSums;    // width pixels of slotStride uint16
+    std::int32_t* best;        // least window sum per pixel
+    std::int16_t* bestIndex;   // its disparity index (ties: the lowest)
+};
+
 // Pushes one template row into ring slot `ring` (width * slotStride bytes) and updates the
 // column sums (costStride columns of slotStride uint16; image column x is column x + half):
 // col += new - old per column and disparity. costs[x]: pixel x's slot 0 in dtRow (its
-// D costs are dtRow[costs[x] .. costs[x] + D)); nullptr: a row of zero cost (below the image).
+// D costs are dtRow[costs[x] .. costs[x] + D)); nullptr: a row of zero cost (below the
+// image). With `out`, the row `half` rows up is then complete, and its window sums
+// (running sums of the column sums along x) and best disparities are written to `out`
+// in the same pass: each pushed column enters the window of the pixel `half` to its left.
 void pushCostRow(const Plan& p, std::int32_t width, const std::uint8_t* dtRow, const std::int32_t* costs,
-                 std::uint8_t* ring, std::uint16_t* colSums) noexcept;
-
-// Window sums of the completed row (running sums of the column sums along x) into
-// winSums (width pixels of slotStride uint16), and the best disparity index per pixel
-// (least sum; ties: the lowest disparity) with its sum.
-void windowSumsAndBest(const Plan& p, std::int32_t width, const std::uint16_t* colSums, std::uint16_t* winSums,
-                       std::int32_t* best, std::int16_t* bestIndex) noexcept;
+                 std::uint8_t* ring, std::uint16_t* colSums, const SearchRow* out) noexcept;
 
 }  // namespace vtm::stereo::detail
