@@ -131,12 +131,14 @@ void searchRow(const Work& k, const std::int16_t* priorRow) {
 }
 
 // Parabola vertex offset through (-1, cm), (0, c0), (1, cp), in 1/16 px, rounded half
-// away from zero, clamped to +-8. curvature = cm + cp - 2 c0 > 0.
+// away from zero, clamped to +-8. curvature = cm + cp - 2 c0 > 0. In 32 bits: window sums
+// are 0..65535, so |t| <= 65535 * 16 and 2 |t| + den <= 2^21 + 2^18 (no 64-bit division,
+// a library call on 32-bit targets; the same quotients).
 std::int32_t subpixelOffset16(std::int32_t cm, std::int32_t cp, std::int32_t curvature) {
-    const std::int64_t t = static_cast<std::int64_t>(cm - cp) * kDisparityScale;  // offset * 2 curvature
-    const std::int64_t den = 2 * static_cast<std::int64_t>(curvature);
-    const std::int64_t q = (t >= 0) ? (2 * t + den) / (2 * den) : -((-2 * t + den) / (2 * den));
-    return static_cast<std::int32_t>(q > 8 ? 8 : (q < -8 ? -8 : q));
+    const std::int32_t t = (cm - cp) * kDisparityScale;  // offset * 2 curvature
+    const std::int32_t den = 2 * curvature;
+    const std::int32_t q = (t >= 0) ? (2 * t + den) / (2 * den) : -((-2 * t + den) / (2 * den));
+    return q > 8 ? 8 : (q < -8 ? -8 : q);
 }
 
 struct Decision {

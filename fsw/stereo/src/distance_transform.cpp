@@ -47,24 +47,27 @@ void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int
 
 namespace {
 
-// dst[u] = map(min(cur[u], a[u] + addA, b[u] + addB)), map: the cost table (kMap) or none.
+// dst[u] = map(min(cur[u], add + min(a[u], b[u]))), map: the cost table (kMap) or none.
 // dst may be cur (in place).
 template <bool kMap>
-void minOfRows(const std::uint8_t* cur, const std::uint8_t* a, std::uint32_t addA, const std::uint8_t* b,
-               std::uint32_t addB, std::int32_t width, const std::uint8_t* table, std::uint8_t* dst) noexcept {
+void minOfRows(const std::uint8_t* cur, const std::uint8_t* a, const std::uint8_t* b, std::uint32_t add,
+               std::int32_t width, const std::uint8_t* table, std::uint8_t* dst) noexcept {
     for (std::int32_t u = 0; u < width; ++u) {
-        const std::uint32_t va = a[u] + addA;
-        const std::uint32_t vb = b[u] + addB;
-        std::uint32_t m = cur[u];
-        m = va < m ? va : m;
-        m = vb < m ? vb : m;
+        const std::uint32_t va = a[u];
+        const std::uint32_t vb = b[u];
+        const std::uint32_t v = (va < vb ? va : vb) + add;
+        const std::uint32_t c = cur[u];
+        const std::uint32_t m = v < c ? v : c;
         dst[u] = kMap ? table[m] : static_cast<std::uint8_t>(m);
     }
 }
 
-// A ring row that can lower the y pass's minimum: offset k (k != 0, k^2 F < d2Cap).
-struct ContributingRow {
-    std::size_t slot;    // byte offset of its x-pass row in the ring
+// Ring rows v - k and v + k (k >= 1, k^2 F < d2Cap): both lower the y pass's minimum by
+// the same k^2 F. Near the top and bottom of the image one of them may be missing; the
+// other then stands in for it (the min is unchanged).
+struct RowPair {
+    std::size_t above;   // byte offsets of the x-pass rows in the ring
+    std::size_t below;
     std::uint32_t add;   // k^2 F
 };
 
@@ -74,21 +77,16 @@ void distanceTransformRowY(const Plan& p, const RowGeometry& g, const std::uint8
                            const std::uint8_t* costTable, std::uint8_t* dtRow) noexcept {
     const std::int32_t slots = 2 * p.radius + 1;
     const std::size_t ringRow = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
-    const std::int32_t kLo = g.y - p.radius < 0 ? -g.y : -p.radius;
-    const std::int32_t kHi = g.y + p.radius >= g.height ? g.height - 1 - g.y : p.radius;
     const auto slotOf = [&](std::int32_t k) { return static_cast<std::size_t>((g.y + k) % slots) * ringRow; };
-    // At most 2 r <= 30 rows (r <= 15 px, Config::validate), paired; an odd one pairs with
-    // itself (the min is unchanged).
-    ContributingRow rows[32];
+    // At most r <= 15 pairs (Config::validate: r <= 15 px).
+    RowPair pairs[16];
     std::int32_t n = 0;
-    for (std::int32_t k = kLo; k <= kHi && n < 30; ++k) {
-        if (k != 0 && k * k * p.d2Scale < p.d2Cap) {
-            rows[n++] = {slotOf(k), static_cast<std::uint32_t>(k * k * p.d2Scale)};
+    for (std::int32_t k = 1; k <= p.radius && k * k * p.d2Scale < p.d2Cap && n < 16; ++k) {
+        const bool above = g.y - k >= 0;
+        const bool below = g.y + k < g.height;
+        if (above || below) {
+            pairs[n++] = {slotOf(above ? -k : k), slotOf(below ? k : -k), static_cast<std::uint32_t>(k * k * p.d2Scale)};
         }
-    }
-    if (n % 2 == 1) {
-        rows[n] = rows[n - 1];
-        ++n;
     }
     const std::int32_t width = g.width;
     for (std::int32_t i = 0; i < p.bins; ++i) {
@@ -99,17 +97,17 @@ void distanceTransformRowY(const Plan& p, const RowGeometry& g, const std::uint8
         const std::uint8_t* row0 = ring + slotOf(0) + bin;
         std::uint8_t* dst = dtRow + static_cast<std::ptrdiff_t>(i) * p.dtStride + p.padLeft;
         if (n == 0) {
-            minOfRows<true>(row0, row0, 0U, row0, 0U, width, costTable, dst);
+            minOfRows<true>(row0, row0, row0, 0U, width, costTable, dst);
             continue;
         }
-        for (std::int32_t r = 0; r < n; r += 2) {
+        for (std::int32_t r = 0; r < n; ++r) {
             const std::uint8_t* cur = r == 0 ? row0 : dst;
-            const std::uint8_t* a = ring + rows[r].slot + bin;
-            const std::uint8_t* b = ring + rows[r + 1].slot + bin;
-            if (r + 2 >= n) {
-                minOfRows<true>(cur, a, rows[r].add, b, rows[r + 1].add, width, costTable, dst);
+            const std::uint8_t* a = ring + pairs[r].above + bin;
+            const std::uint8_t* b = ring + pairs[r].below + bin;
+            if (r + 1 == n) {
+                minOfRows<true>(cur, a, b, pairs[r].add, width, costTable, dst);
             } else {
-                minOfRows<false>(cur, a, rows[r].add, b, rows[r + 1].add, width, costTable, dst);
+                minOfRows<false>(cur, a, b, pairs[r].add, width, costTable, dst);
             }
         }
     }
