@@ -69,12 +69,17 @@ public:
         cost_ = less ? w : cost_;
         word_ = less ? SumWord{} + static_cast<std::uint16_t>(q) : word_;
     }
+    // The least (sum << 16 | j) over the lanes: the least sum, ties to the lowest j
+    // (j <= 1023). A lane that saw only padding holds 0xFFFF: never the least.
     [[nodiscard]] Best finish() const noexcept {
-        Best b;
+        std::uint32_t least = ~0U;
         for (std::int32_t i = 0; i < kLanes; ++i) {
-            b.take(disparities_, word_[i] + i, cost_[i]);
+            const std::int32_t j = disparities_ - 1 - slotOfPosition(word_[i] + i);
+            const std::uint32_t key = (static_cast<std::uint32_t>(cost_[i]) << 16U) |
+                                      (static_cast<std::uint32_t>(j) & 0xFFFFU);
+            least = key < least ? key : least;
         }
-        return b;
+        return Best{static_cast<std::int32_t>(least >> 16U), static_cast<std::int32_t>(least & 0xFFFFU)};
     }
 
 private:
