@@ -52,6 +52,7 @@ namespace {
 template <bool kMap>
 void minOfRows(const std::uint8_t* cur, const std::uint8_t* a, const std::uint8_t* b, std::uint32_t add,
                std::int32_t width, const std::uint8_t* table, std::uint8_t* dst) noexcept {
+#pragma GCC unroll 4
     for (std::int32_t u = 0; u < width; ++u) {
         const std::uint32_t va = a[u];
         const std::uint32_t vb = b[u];
