@@ -109,24 +109,25 @@ void searchRow(const Work& k, const std::int16_t* priorRow) {
     }
     // Without a prior: per right column the least sum over the left pixels x = xr + d;
     // for one xr, x grows with j, so visiting x in order visits its candidates in order of
-    // j, and the strict < keeps the lowest disparity among equal sums.
+    // j, and the strict < keeps the lowest disparity among equal sums. (Within one x every
+    // j lands on another xr, so the order of its sums does not matter.)
     for (std::int32_t x = 0; x < k.w && k.c.lr_max_diff_px >= 0 && priorRow == nullptr; ++x) {
-        for (std::int32_t j = 0; j < p.disparities; ++j) {
+        detail::forEachSum(p, k.winSums, x, [&k, x](std::int32_t j, std::int32_t sum) {
             const std::int32_t d = k.c.d_min + j;
             const std::int32_t xr = x - d;
-            if (xr >= 0 && xr < k.w && winAt(k, x, j) < k.rlCost[xr]) {
-                k.rlCost[xr] = winAt(k, x, j);
+            if (xr >= 0 && xr < k.w && sum < k.rlCost[xr]) {
+                k.rlCost[xr] = sum;
                 k.rlDisparity[xr] = static_cast<std::int16_t>(d);
             }
-        }
+        });
     }
     for (std::int32_t x = 0; x < k.w && k.c.uniqueness_percent > 0; ++x) {
-        for (std::int32_t j = 0; j < p.disparities; ++j) {
+        detail::forEachSum(p, k.winSums, x, [&k, x](std::int32_t j, std::int32_t sum) {
             const std::int32_t gap = j - k.bestIndex[x];
-            if ((gap > 1 || gap < -1) && winAt(k, x, j) < k.second[x]) {
-                k.second[x] = winAt(k, x, j);
+            if ((gap > 1 || gap < -1) && sum < k.second[x]) {
+                k.second[x] = sum;
             }
-        }
+        });
     }
 }
 

@@ -20,6 +20,24 @@ inline std::size_t sumIndex(const Plan& p, std::int32_t x, std::int32_t j) noexc
            static_cast<std::size_t>(sumPosition(p.disparities - 1 - j));
 }
 
+// Calls f(j, sum) for each disparity index j of pixel x's window sums, in memory order
+// (slot g + 2 i + h lies at position g + h kLanes + i of its word group g).
+template <class F>
+void forEachSum(const Plan& p, const std::uint16_t* winSums, std::int32_t x, F&& f) noexcept {
+    const std::uint16_t* sums = winSums + static_cast<std::size_t>(x) * static_cast<std::size_t>(p.slotStride);
+    const std::int32_t used = (p.disparities + kWordBytes - 1) / kWordBytes * kWordBytes;
+    for (std::int32_t g = 0; g < used; g += kWordBytes) {
+        for (std::int32_t h = 0; h < 2; ++h) {
+            for (std::int32_t i = 0; i < kLanes; ++i) {
+                const std::int32_t j = p.disparities - 1 - (g + 2 * i + h);
+                if (j >= 0) {
+                    f(j, std::int32_t{sums[g + h * kLanes + i]});
+                }
+            }
+        }
+    }
+}
+
 // Where a completed row's window sums and best disparities go.
 struct SearchRow {
     std::uint16_t* winSums;    // width pixels of slotStride uint16
