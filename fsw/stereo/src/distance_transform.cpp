@@ -17,9 +17,10 @@ void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int
                            std::uint8_t* out) noexcept {
     const std::size_t rowBytes = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
     std::memset(out, p.d2Cap, rowBytes);
-    // reach[n]: the largest |k| with n^2 binWeight + k^2 F < d2Cap (-1: none), n = |i - b|.
-    std::int32_t reach[256];
-    for (std::int32_t n = 0; n <= p.binReach; ++n) {
+    // reach[n]: the largest |k| with n^2 binWeight + k^2 F < d2Cap (-1: none), n = |i - b|
+    // <= binReach <= 15 (binWeight >= 1 and d2Cap <= 255: plan.cpp).
+    std::int32_t reach[16];
+    for (std::int32_t n = 0; n <= p.binReach && n < 16; ++n) {
         reach[n] = -1;
         for (std::int32_t k = 0; k <= p.radius && n * n * p.binWeight + k * k * p.d2Scale < p.d2Cap; ++k) {
             reach[n] = k;
