@@ -20,9 +20,10 @@ void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int
     // reach[n]: the largest |k| with n^2 binWeight + k^2 F < d2Cap (-1: none), n = |i - b|
     // <= binReach <= 15 (binWeight >= 1 and d2Cap <= 255: plan.cpp).
     std::int32_t reach[16];
-    for (std::int32_t n = 0; n <= p.binReach && n < 16; ++n) {
+    for (std::int32_t n = 0; n < 16; ++n) {
         reach[n] = -1;
-        for (std::int32_t k = 0; k <= p.radius && n * n * p.binWeight + k * k * p.d2Scale < p.d2Cap; ++k) {
+        for (std::int32_t k = 0; n <= p.binReach && k <= p.radius && n * n * p.binWeight + k * k * p.d2Scale < p.d2Cap;
+             ++k) {
             reach[n] = k;
         }
     }

@@ -14,6 +14,8 @@
 //   sums are never a result (consider() skips them).
 #include "window_sums.hpp"
 
+#include <cstddef>
+
 namespace vtm::stereo::detail {
 namespace {
 
@@ -141,9 +143,10 @@ void pushColumn(const RowPass& r, std::int32_t x, const std::uint8_t* costs) noe
     std::uint8_t* slot = r.ring + at(x, r.p.slotStride);
     std::uint16_t* col = colOf(r, x + r.p.half);
     for (std::int32_t g = 0; g < r.words; ++g) {
-        const SumWord n = costs != nullptr ? loadWord(costs + g * kWordBytes) : SumWord{};
-        updateColumn(col + g * kWordBytes, loadWord(slot + g * kWordBytes), n);
-        storeWord(slot + g * kWordBytes, n);
+        const auto o = static_cast<std::ptrdiff_t>(g) * kWordBytes;
+        const SumWord n = costs != nullptr ? loadWord(costs + o) : SumWord{};
+        updateColumn(col + o, loadWord(slot + o), n);
+        storeWord(slot + o, n);
     }
 }
 
@@ -218,22 +221,25 @@ void pushColumnAndSlide(const RowPass& r, std::int32_t x, const std::uint8_t* co
     BestTracker tracker(r.p.disparities);
     const std::int32_t full = r.tail / kWordBytes;  // words without padding
     for (std::int32_t g = 0; g < full; ++g) {
-        const SumWord n = kZero ? SumWord{} : loadWord(costs + g * kWordBytes);
-        pushAndSlideWord(slot + g * kWordBytes, col + g * kWordBytes, prev, leaving, sums, g * kWordBytes, n,
-                         SumWord{}, SumWord{}, tracker);
+        const auto o = static_cast<std::ptrdiff_t>(g) * kWordBytes;
+        const SumWord n = kZero ? SumWord{} : loadWord(costs + o);
+        pushAndSlideWord(slot + o, col + o, prev, leaving, sums, g * kWordBytes, n, SumWord{}, SumWord{}, tracker);
     }
     for (std::int32_t g = full; g < r.words; ++g) {  // the last word, when it has padding
-        const SumWord n = kZero ? SumWord{} : loadWord(costs + g * kWordBytes);
-        pushAndSlideWord(slot + g * kWordBytes, col + g * kWordBytes, prev, leaving, sums, g * kWordBytes, n,
-                         r.pad[0], r.pad[1], tracker);
+        const auto o = static_cast<std::ptrdiff_t>(g) * kWordBytes;
+        const SumWord n = kZero ? SumWord{} : loadWord(costs + o);
+        pushAndSlideWord(slot + o, col + o, prev, leaving, sums, g * kWordBytes, n, r.pad[0], r.pad[1], tracker);
     }
     finishPixel(r, e, tracker);
 }
 
 }  // namespace
 
+// ring and colSums are written through RowPass.
 void pushCostRow(const Plan& p, std::int32_t width, const std::uint8_t* dtRow, const std::int32_t* costs,
-                 std::uint8_t* ring, std::uint16_t* colSums, const SearchRow* out) noexcept {
+                 std::uint8_t* ring,       // NOLINT(readability-non-const-parameter)
+                 std::uint16_t* colSums,   // NOLINT(readability-non-const-parameter)
+                 const SearchRow* out) noexcept {
     RowPass r{p, costWords(p), 0, {}, ring, colSums, out};
     const std::int32_t positions = 2 * r.words * kLanes;
     r.tail = p.disparities % kWordBytes == 0 ? positions : positions - 2 * kLanes;

@@ -6,6 +6,7 @@
 // word at a time, 16-bit sums packed into words (sum_lanes.hpp).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "plan.hpp"
