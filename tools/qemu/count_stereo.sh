@@ -3,7 +3,7 @@
 # qemu-user with the exact counting plugin (tools/qemu/insn_count.c).
 #
 #   tools/qemu/count_stereo.sh [--build DIR] [--emulator QEMU] [--size WxH] [--disparities D1,D2]
-#                              [--mode insn|tb] [--profile]
+#                              [--mode insn|tb] [--profile] [--max-search N] [--max-fixed N]
 #
 # Defaults: --build build/peer-ppc750 (a ppc750 build: `cmake --preset ppc750 -B
 # build/peer-ppc750 && cmake --build build/peer-ppc750 --target vtm_stereo_insn_probe`),
@@ -11,6 +11,9 @@
 # Other targets: e.g. --build build/aarch64 --emulator qemu-aarch64.
 # --profile: also the instructions of one compute() at D2 per containing symbol (code
 # inlined into a function counts for it), top 12, demangled.
+# --max-search N, --max-fixed N: a gate. Exit 1 (after the report) when the search per
+# pixel*disparity exceeds N, or the per-pixel cost independent of D does; counts are
+# exact, so the gate is deterministic (ctest bench.stereo_insn_gate on ppc750).
 #
 # Method: the probe (tests/bench/stereo_insn_probe.cpp) builds a synthetic pair, inits
 # MlStereo (default Config, d 0..D-1) and calls compute() REPEAT times. For each D:
@@ -29,6 +32,8 @@ size=450x375
 disps=32,64
 mode=insn
 profile=0
+max_search=
+max_fixed=
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
@@ -37,7 +42,9 @@ while [ $# -gt 0 ]; do
     --disparities) disps=$2; shift 2 ;;
     --mode) mode=$2; shift 2 ;;
     --profile) profile=1; shift ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    --max-search) max_search=$2; shift 2 ;;
+    --max-fixed) max_fixed=$2; shift 2 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
     *) echo "count_stereo.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -65,7 +72,7 @@ for d in "$d1" "$d2"; do
 done
 echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${w}x${h}  mode: $mode"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/probe-$d2-1.log")"
-awk -v w="$w" -v h="$h" -v d1="$d1" -v d2="$d2" \
+figures=$(awk -v w="$w" -v h="$h" -v d1="$d1" -v d2="$d2" \
     -v a1="${c[$d1,1]}" -v a2="${c[$d1,2]}" -v b1="${c[$d2,1]}" -v b2="${c[$d2,2]}" 'BEGIN {
   n = w * h; c1 = a2 - a1; c2 = b2 - b1
   printf "one compute(), D=%d: %.0f instructions (runs: %.0f, %.0f)\n", d1, c1, a1, a2
@@ -74,7 +81,18 @@ awk -v w="$w" -v h="$h" -v d1="$d1" -v d2="$d2" \
   s = (c2 - c1) / (n * (d2 - d1))
   printf "search per pixel*disparity (marginal, D=%d..%d): %.2f\n", d1, d2, s
   printf "per pixel, independent of D: %.1f\n", c1 / n - s * d1
-}'
+}')
+echo "$figures"
+gate=0
+check() {  # check NAME VALUE LIMIT
+  if awk -v v="$2" -v m="$3" 'BEGIN { exit !(v > m) }'; then
+    echo "gate: $1 $2 > $3: FAILED"; gate=1
+  else
+    echo "gate: $1 $2 <= $3: ok"
+  fi
+}
+[ -n "$max_search" ] && check "search per pixel*disparity" "$(echo "$figures" | awk '/^search/ {print $NF}')" "$max_search"
+[ -n "$max_fixed" ] && check "per pixel, independent of D" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
 if [ "$profile" = 1 ]; then
   echo "one compute(), D=$d2, by symbol (instructions, per pixel*disparity, share):"
   awk -v n="$((w * h * d2))" '
@@ -85,3 +103,4 @@ if [ "$profile" = 1 ]; then
       for (s in cnt) printf "%.0f %.2f %.1f%% %s\n", cnt[s], cnt[s] / n, 100 * cnt[s] / tot, s
     }' "$work/count-$d2-1.txt" "$work/count-$d2-2.txt" | sort -k1,1nr | head -n 12 | c++filt | cut -c1-160 | sed 's/^/  /'
 fi
+exit "$gate"

@@ -2,6 +2,7 @@
 #include <cstring>
 
 #include "plan.hpp"
+#include "window_sums.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 
@@ -53,63 +54,25 @@ std::int32_t searchCentre(const Work& k, const std::int16_t* priorRow, std::int3
 }
 
 // Pushes template row y' (or a row of zero cost below the image) into ring slot `slot`,
-// updating the column sums: col += new - old for every column and disparity. With a
-// prior, pixel x reads the DT row around its own centre x - prior(x, y').
-void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t y, std::int32_t slot) {
+// updating the column sums, and when `emit` the window sums and best disparities of row
+// y' - half (window_sums.hpp). With a prior, pixel x reads the DT row around its own
+// centre x - prior(x, y').
+void pushCostRow(const Work& k, const std::uint8_t* leftRow, std::int32_t y, std::int32_t slot, bool emit) {
     const Plan& p = k.p;
-    const std::size_t slotBytes = static_cast<std::size_t>(p.disparities) * static_cast<std::size_t>(p.costStride);
+    const std::size_t slotBytes = static_cast<std::size_t>(p.width) * static_cast<std::size_t>(p.slotStride);
     const std::int16_t* priorRow = (k.prior.valid() && leftRow != nullptr) ? k.prior.row(y) : nullptr;
-    for (std::int32_t x = 0; x < k.w; ++x) {
-        k.offset[x] = (leftRow != nullptr)
-                          ? ((leftRow[x] >> p.binShift) * p.dtStride + p.padLeft + searchCentre(k, priorRow, x))
-                          : 0;
+    // Slot 0 of pixel x (disparity d_max) lies at column centre - d_max of its bin's row.
+    for (std::int32_t x = 0; x < k.w && leftRow != nullptr; ++x) {
+        k.offset[x] = (leftRow[x] >> p.binShift) * p.dtStride + p.padLeft + searchCentre(k, priorRow, x) - k.c.d_max;
     }
-    for (std::int32_t j = 0; j < p.disparities; ++j) {
-        const std::int32_t d = k.c.d_min + j;
-        std::uint8_t* ring = k.costRing + static_cast<std::size_t>(slot) * slotBytes +
-                             static_cast<std::size_t>(j) * static_cast<std::size_t>(p.costStride) +
-                             static_cast<std::size_t>(p.half);
-        std::uint16_t* col = k.colSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.costStride) +
-                             static_cast<std::size_t>(p.half);
-        const std::uint8_t* base = k.dtRow - d;
-        for (std::int32_t x = 0; x < k.w; ++x) {
-            const std::uint8_t n = (leftRow != nullptr) ? base[k.offset[x]] : std::uint8_t{0};
-            const std::uint8_t o = ring[x];
-            ring[x] = n;
-            col[x] = static_cast<std::uint16_t>(col[x] + n - o);
-        }
-    }
+    const detail::SearchRow row{k.winSums, k.best, k.bestIndex};
+    detail::pushCostRow(p, k.w, k.dtRow, leftRow != nullptr ? k.offset : nullptr,
+                        k.costRing + static_cast<std::size_t>(slot) * slotBytes, k.colSums, emit ? &row : nullptr);
 }
 
-// Window sums of the completed row (running sums of the column sums along x), and in the
-// same pass the best disparity per left column (ties: the lowest disparity).
-void windowSumsAndBest(const Work& k) {
-    const Plan& p = k.p;
-    const std::int32_t span = 2 * p.half;
-    for (std::int32_t x = 0; x < k.w; ++x) {
-        k.best[x] = kInfCost;
-        k.bestIndex[x] = 0;
-    }
-    for (std::int32_t j = 0; j < p.disparities; ++j) {
-        const std::uint16_t* col = k.colSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.costStride);
-        std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
-        const auto keep = [&k, win, j](std::int32_t x, std::int32_t sum) {
-            win[x] = static_cast<std::uint16_t>(sum);
-            if (sum < k.best[x]) {
-                k.best[x] = sum;
-                k.bestIndex[x] = static_cast<std::int16_t>(j);
-            }
-        };
-        std::int32_t s = 0;
-        for (std::int32_t i = 0; i <= span; ++i) {
-            s += col[i];
-        }
-        keep(0, s);
-        for (std::int32_t x = 1; x < k.w; ++x) {
-            s += col[x + span] - col[x - 1];
-            keep(x, s);
-        }
-    }
+// The window sum of pixel x at disparity index j (of the completed row).
+std::int32_t winAt(const Work& k, std::int32_t x, std::int32_t j) {
+    return k.winSums[detail::sumIndex(k.p, x, j)];
 }
 
 // Second-best (at least 2 disparities away from the best) per left column, and the best
@@ -119,16 +82,15 @@ void windowSumsAndBest(const Work& k) {
 // offset, and keeps per right column the least sum of the left pixels that land there.
 void searchRightToLeftWithPrior(const Work& k, const std::int16_t* priorRow) {
     const Plan& p = k.p;
-    for (std::int32_t j = 0; j < p.disparities; ++j) {
-        const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
+    for (std::int32_t j = 0; j < p.disparities; ++j) {  // j outer: ties go to the lowest j, then x
         for (std::int32_t x = 0; x < k.w; ++x) {
             if (priorRow[x] == kNoDisparity) {
                 continue;
             }
             const std::int32_t d = priorRow[x] + k.c.d_min + j;
             const std::int32_t xr = x - d;
-            if (xr >= 0 && xr < k.w && win[x] < k.rlCost[xr]) {
-                k.rlCost[xr] = win[x];
+            if (xr >= 0 && xr < k.w && winAt(k, x, j) < k.rlCost[xr]) {
+                k.rlCost[xr] = winAt(k, x, j);
                 k.rlDisparity[xr] = static_cast<std::int16_t>(d);
             }
         }
@@ -145,36 +107,39 @@ void searchRow(const Work& k, const std::int16_t* priorRow) {
     if (k.c.lr_max_diff_px >= 0 && priorRow != nullptr) {
         searchRightToLeftWithPrior(k, priorRow);
     }
-    for (std::int32_t j = 0; j < p.disparities && k.c.lr_max_diff_px >= 0 && priorRow == nullptr; ++j) {
-        const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
-        const std::int32_t d = k.c.d_min + j;
-        const std::int32_t xrLo = d < 0 ? -d : 0;
-        const std::int32_t xrHi = d > 0 ? k.w - d : k.w;
-        for (std::int32_t xr = xrLo; xr < xrHi; ++xr) {
-            if (win[xr + d] < k.rlCost[xr]) {
-                k.rlCost[xr] = win[xr + d];
+    // Without a prior: per right column the least sum over the left pixels x = xr + d;
+    // for one xr, x grows with j, so visiting x in order visits its candidates in order of
+    // j, and the strict < keeps the lowest disparity among equal sums. (Within one x every
+    // j lands on another xr, so the order of its sums does not matter.)
+    for (std::int32_t x = 0; x < k.w && k.c.lr_max_diff_px >= 0 && priorRow == nullptr; ++x) {
+        detail::forEachSum(p, k.winSums, x, [&k, x](std::int32_t j, std::int32_t sum) {
+            const std::int32_t d = k.c.d_min + j;
+            const std::int32_t xr = x - d;
+            if (xr >= 0 && xr < k.w && sum < k.rlCost[xr]) {
+                k.rlCost[xr] = sum;
                 k.rlDisparity[xr] = static_cast<std::int16_t>(d);
             }
-        }
+        });
     }
-    for (std::int32_t j = 0; j < p.disparities && k.c.uniqueness_percent > 0; ++j) {
-        const std::uint16_t* win = k.winSums + static_cast<std::size_t>(j) * static_cast<std::size_t>(p.width);
-        for (std::int32_t x = 0; x < k.w; ++x) {
+    for (std::int32_t x = 0; x < k.w && k.c.uniqueness_percent > 0; ++x) {
+        detail::forEachSum(p, k.winSums, x, [&k, x](std::int32_t j, std::int32_t sum) {
             const std::int32_t gap = j - k.bestIndex[x];
-            if ((gap > 1 || gap < -1) && win[x] < k.second[x]) {
-                k.second[x] = win[x];
+            if ((gap > 1 || gap < -1) && sum < k.second[x]) {
+                k.second[x] = sum;
             }
-        }
+        });
     }
 }
 
 // Parabola vertex offset through (-1, cm), (0, c0), (1, cp), in 1/16 px, rounded half
-// away from zero, clamped to +-8. curvature = cm + cp - 2 c0 > 0.
+// away from zero, clamped to +-8. curvature = cm + cp - 2 c0 > 0. In 32 bits: window sums
+// are 0..65535, so |t| <= 65535 * 16 and 2 |t| + den <= 2^21 + 2^18 (no 64-bit division,
+// a library call on 32-bit targets; the same quotients).
 std::int32_t subpixelOffset16(std::int32_t cm, std::int32_t cp, std::int32_t curvature) {
-    const std::int64_t t = static_cast<std::int64_t>(cm - cp) * kDisparityScale;  // offset * 2 curvature
-    const std::int64_t den = 2 * static_cast<std::int64_t>(curvature);
-    const std::int64_t q = (t >= 0) ? (2 * t + den) / (2 * den) : -((-2 * t + den) / (2 * den));
-    return static_cast<std::int32_t>(q > 8 ? 8 : (q < -8 ? -8 : q));
+    const std::int32_t t = (cm - cp) * kDisparityScale;  // offset * 2 curvature
+    const std::int32_t den = 2 * curvature;
+    const std::int32_t q = (t >= 0) ? (2 * t + den) / (2 * den) : -((-2 * t + den) / (2 * den));
+    return q > 8 ? 8 : (q < -8 ? -8 : q);
 }
 
 struct Decision {
@@ -225,19 +190,17 @@ Decision decide(const Work& k, std::int32_t x, std::int32_t centre) {
     const std::int32_t jHi = range.hi;
     const std::int32_t j0 = k.bestIndex[x];
     const std::int32_t c0 = k.best[x];
-    const std::size_t col = static_cast<std::size_t>(x);
-    const std::size_t row = static_cast<std::size_t>(p.width);
     if (j0 < jLo || j0 > jHi) {
         return {Reason::kOutOfRange, kNoDisparity, kInf};  // the best lies outside the image
     }
     if (p.disparities >= 3 && (j0 == jLo || j0 == jHi)) {
         // A peak on the boundary: out of range, unless the curve is flat there (ties
         // resolve to the lowest disparity), which is missing texture.
-        const std::int32_t inner = k.winSums[static_cast<std::size_t>(j0 == jLo ? j0 + 1 : j0 - 1) * row + col];
+        const std::int32_t inner = winAt(k, x, j0 == jLo ? j0 + 1 : j0 - 1);
         return {inner == c0 ? Reason::kNoTexture : Reason::kOutOfRange, kNoDisparity, kInf};
     }
-    const std::int32_t cm = j0 > 0 ? k.winSums[static_cast<std::size_t>(j0 - 1) * row + col] : c0;
-    const std::int32_t cp = j0 < p.disparities - 1 ? k.winSums[static_cast<std::size_t>(j0 + 1) * row + col] : c0;
+    const std::int32_t cm = j0 > 0 ? winAt(k, x, j0 - 1) : c0;
+    const std::int32_t cp = j0 < p.disparities - 1 ? winAt(k, x, j0 + 1) : c0;
     const std::int32_t curvature = cm + cp - 2 * c0;
     if (curvature < k.c.min_curvature || curvature <= 0) {
         return {Reason::kNoTexture, kNoDisparity, kInf};
@@ -268,7 +231,6 @@ Decision decide(const Work& k, std::int32_t x, std::int32_t centre) {
 
 void emitRow(const Work& k, std::int32_t y, const DisparityOutput& out, StereoStats* stats) {
     const std::int16_t* priorRow = k.prior.valid() ? k.prior.row(y) : nullptr;
-    windowSumsAndBest(k);
     searchRow(k, priorRow);
     std::int16_t* disp = out.disparity_px16.row(y);
     float* sigma = out.sigma_px.valid() ? out.sigma_px.row(y) : nullptr;
@@ -363,7 +325,7 @@ void streamRows(const Work& k, const DisparityOutput& out, StereoStats* stats) {
             detail::distanceTransformRowY(p, detail::RowGeometry{yIn, k.h, k.w, binUsed}, k.dtRing, k.table,
                                           k.dtRow);
         }
-        pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn, yIn % (2 * p.half + 1));
+        pushCostRow(k, yIn < k.h ? k.left.row(yIn) : nullptr, yIn, yIn % (2 * p.half + 1), yIn >= p.half);
         if (yIn >= p.half) {
             emitRow(k, yIn - p.half, out, stats);
         }

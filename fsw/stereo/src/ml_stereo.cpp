@@ -20,21 +20,21 @@ struct Sizes {
     std::size_t image;      // one prefiltered image
     std::size_t dtRing;     // (2r+1) x-pass rows
     std::size_t dtRow;      // bins * dtStride
-    std::size_t costRing;   // window * D * costStride
-    std::size_t sums;       // D * costStride (column sums)
-    std::size_t winSums;    // D * width (window sums)
+    std::size_t costRing;   // window * width * slotStride
+    std::size_t sums;       // costStride * slotStride (column sums)
+    std::size_t winSums;    // width * slotStride (window sums)
 };
 
 Sizes sizesOf(const Config& c, const Plan& p) noexcept {
     const auto w = static_cast<std::size_t>(p.width);
-    const auto d = static_cast<std::size_t>(p.disparities);
+    const auto slot = static_cast<std::size_t>(p.slotStride);
     Sizes s{};
     s.image = w * static_cast<std::size_t>(p.height);
     s.dtRing = static_cast<std::size_t>(2 * p.radius + 1) * static_cast<std::size_t>(p.bins) * w;
     s.dtRow = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.dtStride);
-    s.costRing = static_cast<std::size_t>(c.window) * d * static_cast<std::size_t>(p.costStride);
-    s.sums = d * static_cast<std::size_t>(p.costStride);
-    s.winSums = d * w;
+    s.costRing = static_cast<std::size_t>(c.window) * w * slot;
+    s.sums = static_cast<std::size_t>(p.costStride) * slot;
+    s.winSums = w * slot;
     return s;
 }
 

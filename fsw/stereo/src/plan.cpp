@@ -1,5 +1,7 @@
 #include "plan.hpp"
 
+#include "sum_lanes.hpp"
+
 #include "vtm/core/math.hpp"
 
 namespace vtm::stereo::detail {
@@ -64,8 +66,11 @@ Plan makePlan(const Config& c) noexcept {
     // A prior's search centre may lie up to `disparities` columns outside the right image
     // (compute() clamps it there): that many more columns of padding on each side.
     p.padLeft = (c.d_max > 0 ? c.d_max : 0) + p.disparities;
-    p.dtStride = p.width + p.padLeft + (c.d_min < 0 ? -c.d_min : 0) + p.disparities;
+    // kSlotGroup more on the right: a pixel's last cost word may read up to kSlotGroup - 1
+    // slots past its D costs (window_sums.cpp), i.e. columns right of centre - d_min.
+    p.dtStride = p.width + p.padLeft + (c.d_min < 0 ? -c.d_min : 0) + p.disparities + kSlotGroup;
     p.costStride = p.width + 2 * p.half;
+    p.slotStride = (p.disparities + kSlotGroup - 1) / kSlotGroup * kSlotGroup;
     const double top = negLogLikelihood(c, p, p.d2Cap);
     p.costPerNat = static_cast<double>(p.maxCost) / (top > 0.0 ? top : 1.0);
     return p;

@@ -23,8 +23,10 @@ struct Plan {
     std::int32_t binReach = 0;         // bins within the cap of a pixel's own bin
     std::int32_t maxCost = 0;          // cost of an outlier / of no right pixel
     std::int32_t padLeft = 0;          // max(d_max, 0) + disparities: DT row columns left of u = 0
-    std::int32_t dtStride = 0;         // width + padLeft + max(-d_min, 0) + disparities
-    std::int32_t costStride = 0;       // width + 2 * half
+    std::int32_t dtStride = 0;         // width + padLeft + max(-d_min, 0) + disparities + kSlotGroup
+    std::int32_t costStride = 0;       // width + 2 * half: columns of the column sums
+    std::int32_t slotStride = 0;       // disparities rounded up to kSlotGroup: bytes (costs) or
+                                       // uint16 (sums) per pixel (window_sums.hpp)
     double costPerNat = 0.0;           // cost units per nat of log-likelihood
 };
 
