@@ -18,8 +18,10 @@
 
 namespace vtm::stereo::detail {
 
-// VTM_STEREO_SUM_WORD_BITS (32 or 64) forces a scalar word: how the host tests the
-// 32- and 64-bit paths of the other targets (tests/stereo, docs/stereo.md "Cost").
+// VTM_STEREO_SUM_WORD_BITS (32 or 64) forces a scalar word: how a developer runs the 32-
+// and 64-bit paths of the other targets on the host (docs/stereo.md "Cost"); CI runs each
+// path where it is native (armhf, ppc750, leon3: 32; riscv64: 64; aarch64: vector), and
+// the determinism suite compares their bits with the host's.
 #if !defined(VTM_STEREO_SUM_WORD_BITS) && (defined(__SSE2__) || defined(__ARM_NEON))
 // Targets with 128-bit SIMD (x86-64 SSE2, aarch64 NEON): eight sums to a GCC vector.
 #define VTM_STEREO_VECTOR_SUMS 1
