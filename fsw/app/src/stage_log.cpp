@@ -17,6 +17,7 @@ const char* stageName(Stage stage) noexcept {
         case Stage::kRectify: return "rectify";
         case Stage::kStereo: return "stereo";
         case Stage::kTriangulate: return "triangulate";
+        case Stage::kLocate: return "locate";
         case Stage::kNone: break;
     }
     return "none";

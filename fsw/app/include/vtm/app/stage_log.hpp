@@ -31,6 +31,8 @@ enum class Stage : std::uint8_t {
     kRectify = 9,      // quality: convergence of the refined pair, centidegrees
     kStereo = 10,      // quality: pixels with a disparity
     kTriangulate = 11, // quality: points triangulated
+    // DescentMapper, after refine (orbital.enabled)
+    kLocate = 12,      // quality: frames of the pair located in the orbital map and used (0: the navigation's answer kept)
 };
 constexpr std::uint16_t kEventStageBase = 0x0A00U;
 
