@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -140,6 +141,8 @@ inline DescentMapperConfig orbitalConfig(const World& w, bool fix) {
     c.refine.matcher.pyramid_levels = 1;
     c.refine.match_margin_px = c.refine.visibility_margin_px = 8.0;
     c.orbital.enabled = fix;
+    if (const char* e = std::getenv("VTM_ORB_ROUNDS")) c.orbital.registration.refine_rounds = std::atoi(e);
+    if (const char* e = std::getenv("VTM_ORB_WINDOW")) c.orbital.registration.entropy.window = std::atoi(e);
     return c;
 }
 
@@ -183,6 +186,10 @@ struct Outcome {
     double placement_error_px = -1.0;      // camera 1 as the map is placed (fixed or navigation) vs true
     double navigation_error_px = -1.0;     // camera 1 as the navigation said vs true
     std::int64_t locate_quality = -1;
+    double scale = 1.0;                    // applied to the navigation's baseline
+    bool scale_applied = false;
+    double true_scale = 1.0;               // true baseline / the navigation's (refined) baseline
+    double frame_scale[2] = {0.0, 0.0};
     const char* reason = "";
 };
 
@@ -243,6 +250,46 @@ inline std::vector<Outcome> fly(const World& w, const DescentMapperConfig& c, in
             o.placement_error_px = (Vec2(placed.x(), placed.y()) - truth).norm() / cell;
             const Vec2 nav = Vec2(placed.x(), placed.y()) - (o.applied ? p->orbital.correction_ne_m : Vec2::Zero());
             o.navigation_error_px = (nav - truth).norm() / cell;
+        }
+        if (f[0] != nullptr && f[1] != nullptr) {
+            const double used = (p->geometry.site_from_cam2.t_m - p->geometry.site_from_cam1.t_m).norm();
+            const double k = o.applied && p->orbital.scale_applied ? p->orbital.scale : 1.0;
+            o.scale_applied = o.applied && p->orbital.scale_applied;
+            o.scale = k;
+            o.true_scale = (f[1]->camera_pose.t_m - f[0]->camera_pose.t_m).norm() / (used / k);
+            o.frame_scale[0] = p->orbital.frames[0].scale;
+            o.frame_scale[1] = p->orbital.frames[1].scale;
+        }
+        if (std::getenv("VTM_ORBITAL_DEBUG") != nullptr) {
+            for (int i = 0; i < 2; ++i) {
+                const LocatedFrame& lf = p->orbital.frames[i];
+                if (!lf.used || f[i] == nullptr) continue;
+                const std::int32_t n = p->depth_m.width();
+                std::vector<float> pts(3U * n * n);
+                std::vector<std::uint16_t> px(static_cast<std::size_t>(n) * n);
+                sim::FrameOutput fo;
+                fo.image16 = ImageView<std::uint16_t>(px.data(), n, n);
+                fo.truth.point_site_m = ImageView<float>(pts.data(), 3 * n, n);
+                (void)sim::renderFrame(sim::scenarioFrameRequest(w.scenario, w.terrain, *f[i]), fo, nullptr);
+                // similarity full pixel -> orbital px over all pixels, LSQ (complex)
+                double sx = 0, sy = 0, tx = 0, ty = 0, m = 0;
+                for (int k = 0; k < n * n; ++k) {
+                    if (!std::isfinite(pts[3 * k])) continue;
+                    const Vec2 o = sim::orbitalPixelFromSite(w.geo, pts[3 * k], pts[3 * k + 1]);
+                    sx += k % n; sy += k / n; tx += o.x(); ty += o.y(); m += 1;
+                }
+                sx /= m; sy /= m; tx /= m; ty /= m;
+                double re = 0, im = 0, nn = 0;
+                for (int k = 0; k < n * n; ++k) {
+                    if (!std::isfinite(pts[3 * k])) continue;
+                    const Vec2 o = sim::orbitalPixelFromSite(w.geo, pts[3 * k], pts[3 * k + 1]);
+                    const double zx = k % n - sx, zy = k / n - sy, wx = o.x() - tx, wy = o.y() - ty;
+                    re += wx * zx + wy * zy; im += wy * zx - wx * zy; nn += zx * zx + zy * zy;
+                }
+                const double true_s = std::sqrt(re * re + im * im) / nn * (1 << lf.reduction);
+                std::printf("    frame %d: registration scale %.5f, true similarity scale %.5f (ratio %.4f), ncc %.3f second %.3f, reduction %d\n", i,
+                            lf.registration.scale, true_s, lf.registration.scale / true_s, lf.registration.ncc, lf.registration.second_ncc, lf.reduction);
+            }
         }
         for (std::size_t i = 0; i < mapper->stages().size(); ++i) {
             if (mapper->stages().at(i).stage == Stage::kLocate) o.locate_quality = mapper->stages().at(i).quality;

@@ -329,18 +329,18 @@ Status DescentMapper::locateInOrbitalMap() noexcept {
 
 // Camera 1 moves to its located horizontal position (its height stays the navigation's:
 // an orthographic map does not show it); camera 2 follows at the located scale of the
-// baseline, and the sweep's depth range (from the features) scales with it.
+// baseline when the two frames agree on it (scale_applied), and the sweep's depth range
+// (from the features) scales with it.
 Status DescentMapper::applyOrbitalFix() noexcept {
     OrbitalFix& fix = products_.orbital;
     RigidPose& p1 = products_.geometry.site_from_cam1;
     RigidPose& p2 = products_.geometry.site_from_cam2;
     const Vec3 baseline = p2.t_m - p1.t_m;
-    const double zmin = fix.scale * sweep_.config().depth_min_m;
-    const double zmax = fix.scale * sweep_.config().depth_max_m;
-    VTM_RETURN_IF_ERROR(setSweepRange(zmin, zmax));
+    const double k = fix.scale_applied ? fix.scale : 1.0;
+    VTM_RETURN_IF_ERROR(setSweepRange(k * sweep_.config().depth_min_m, k * sweep_.config().depth_max_m));
     p1.t_m.x() = fix.camera1_ne_m.x();
     p1.t_m.y() = fix.camera1_ne_m.y();
-    p2.t_m = p1.t_m + fix.scale * baseline;
+    p2.t_m = p1.t_m + k * baseline;
     fix.applied = true;
     return Status::ok();
 }

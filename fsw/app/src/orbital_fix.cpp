@@ -402,13 +402,6 @@ Status OrbitalLocator::fitPair(const LocateInput& in, OrbitalFix& fix) const noe
     if (!a.used && !b.used) {
         return a.status.isOk() ? b.status : a.status;
     }
-    if (a.used && b.used) {
-        const double mean = 0.5 * (a.scale + b.scale);
-        const double d = a.scale > b.scale ? a.scale - b.scale : b.scale - a.scale;
-        if (!(d <= config_.max_scale_disagreement * mean)) {
-            return Status(StatusCode::kDegenerate, "locate: the two frames disagree on the scale (orbital.max_scale_disagreement)");
-        }
-    }
     const refine::Result& r = *in.refine;
     const Vec3& c1 = in.site_from_cam1.t_m;
     ScaleShiftFit fit;
@@ -429,6 +422,10 @@ Status OrbitalLocator::fitPair(const LocateInput& in, OrbitalFix& fix) const noe
         return Status(StatusCode::kDegenerate, "locate: the placed features do not spread");
     }
     fix.residual_px = rms / map_.geo.cell_m;
+    if (a.used && b.used) {
+        const double d = a.scale > b.scale ? a.scale - b.scale : b.scale - a.scale;
+        fix.scale_applied = d <= config_.max_scale_disagreement * 0.5 * (a.scale + b.scale);
+    }
     fix.correction_ne_m = fix.camera1_ne_m - Vec2(c1.x(), c1.y());
     return Status::ok();
 }
