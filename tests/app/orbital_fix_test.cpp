@@ -184,6 +184,12 @@ TEST(OrbitalFixConfigTest, BadMapsAndConfigsAreNamed) {
     b.angle_range_rad = 4.0;
     EXPECT_NE(cfgReason(b).find("orbital.angle_range_rad"), std::string::npos);
     b = c;
+    b.max_position_disagreement_px = 0.0;
+    EXPECT_NE(cfgReason(b).find("orbital.max_position_disagreement_px"), std::string::npos);
+    b = c;
+    b.min_pixel_cells = 0.0;
+    EXPECT_NE(cfgReason(b).find("orbital.min_pixel_cells"), std::string::npos);
+    b = c;
     b.registration.levels = 0;
     EXPECT_NE(cfgReason(b).find("levels"), std::string::npos);
 

@@ -143,6 +143,9 @@ inline DescentMapperConfig orbitalConfig(const World& w, bool fix) {
     c.orbital.enabled = fix;
     if (const char* e = std::getenv("VTM_ORB_ROUNDS")) c.orbital.registration.refine_rounds = std::atoi(e);
     if (const char* e = std::getenv("VTM_ORB_WINDOW")) c.orbital.registration.entropy.window = std::atoi(e);
+    if (const char* e = std::getenv("VTM_ORB_BINS")) c.orbital.registration.entropy.bins = std::atoi(e);
+    if (const char* e = std::getenv("VTM_ORB_MINNCC")) c.orbital.min_ncc = std::atof(e);
+    if (const char* e = std::getenv("VTM_ORB_PIXEL")) c.orbital.min_pixel_cells = std::atof(e);
     return c;
 }
 
@@ -190,6 +193,10 @@ struct Outcome {
     bool scale_applied = false;
     double true_scale = 1.0;               // true baseline / the navigation's (refined) baseline
     double frame_scale[2] = {0.0, 0.0};
+    double frame_ncc[2] = {-1.0, -1.0};     // the registration's peak and second peak
+    double frame_second[2] = {-1.0, -1.0};
+    double frame_residual_px[2] = {-1.0, -1.0};
+    const char* frame_reason[2] = {"", ""};
     const char* reason = "";
 };
 
@@ -239,6 +246,10 @@ inline std::vector<Outcome> fly(const World& w, const DescentMapperConfig& c, in
         const sim::ScenarioFrame* f[2] = {frameAt(w, p->frame1.timestamp_ns), frameAt(w, p->frame2.timestamp_ns)};
         for (int i = 0; i < 2; ++i) {
             const LocatedFrame& lf = p->orbital.frames[i];
+            o.frame_ncc[i] = lf.registration.ncc;
+            o.frame_second[i] = lf.registration.second_ncc;
+            o.frame_residual_px[i] = lf.residual_px;
+            o.frame_reason[i] = lf.status.reason();
             if (lf.used && f[i] != nullptr) {
                 const Vec2 truth(f[i]->camera_pose.t_m.x(), f[i]->camera_pose.t_m.y());
                 o.frame_error_px[i] = (lf.position_ne_m - truth).norm() / cell;

@@ -148,6 +148,7 @@ Status validateOrbitalMap(const OrbitalMap& map) noexcept {
 
 Status OrbitalFixConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(registration.validate());
+    if (!detail::inRange(min_pixel_cells, 0.1, 4.0)) return invalid("orbital.min_pixel_cells: must be 0.1..4");
     if (!detail::inRange(angle_range_rad, 0.0, math::kPi)) return invalid("orbital.angle_range_rad: must be 0..pi");
     if (!detail::inRange(scale_range, 0.01, 0.9)) return invalid("orbital.scale_range: must be 0.01..0.9");
     if (!detail::inRange(shift_sigmas, 0.0, 10.0)) return invalid("orbital.shift_sigmas: must be 0..10");
@@ -155,6 +156,9 @@ Status OrbitalFixConfig::validate() const noexcept {
     if (!detail::inRange(min_ncc, 0.0, 1.0)) return invalid("orbital.min_ncc: must be 0..1");
     if (!detail::inRange(max_peak_ratio, 1e-6, 1.0)) return invalid("orbital.max_peak_ratio: must be in (0, 1]");
     if (!detail::inRange(max_residual_px, 1e-6, 1e6)) return invalid("orbital.max_residual_px: must be > 0");
+    if (!detail::inRange(max_position_disagreement_px, 1e-6, 1e6)) {
+        return invalid("orbital.max_position_disagreement_px: must be > 0");
+    }
     if (!detail::inRange(max_scale_disagreement, 1e-6, 1.0)) {
         return invalid("orbital.max_scale_disagreement: must be in (0, 1]");
     }
@@ -200,7 +204,7 @@ Status OrbitalLocator::setMap(const OrbitalMap& map) noexcept {
     return Status::ok();
 }
 
-// Halves the frame until its pixel covers at least half an orbital cell and it fits the
+// Halves the frame until its pixel covers at least min_pixel_cells of an orbital cell and it fits the
 // registration's capacity (never below 16 px).
 Status OrbitalLocator::reduceFrame(const ImageView<const std::uint8_t>& frame, double ground_px_m, LocatedFrame& out,
                                    ImageView<const std::uint8_t>& reduced) noexcept {
@@ -209,7 +213,7 @@ Status OrbitalLocator::reduceFrame(const ImageView<const std::uint8_t>& frame, d
     const double cell = map_.geo.cell_m;
     std::int32_t n = 0;
     for (; n < kMaxHalvings; ++n) {
-        const bool too_fine = ground_px_m * static_cast<double>(1 << n) < 0.5 * cell;
+        const bool too_fine = ground_px_m * static_cast<double>(1 << n) < config_.min_pixel_cells * cell;
         const bool too_big = reduced.width() > config_.registration.max_width ||
                              reduced.height() > config_.registration.max_height;
         if ((!too_fine && !too_big) || reduced.width() / 2 < kMinRegistrationPx ||
@@ -395,12 +399,18 @@ Status OrbitalLocator::locateFrame(const LocateInput& in, std::int32_t index, Lo
 }
 
 // Both frames' placed features against their offsets from camera 1: camera 1's position
-// and the pair's scale, from every frame used.
+// and the pair's scale. Both frames must be used and agree on camera 1's position.
 Status OrbitalLocator::fitPair(const LocateInput& in, OrbitalFix& fix) const noexcept {
     const LocatedFrame& a = fix.frames[0];
     const LocatedFrame& b = fix.frames[1];
-    if (!a.used && !b.used) {
-        return a.status.isOk() ? b.status : a.status;
+    if (!a.used || !b.used) {
+        return !a.used ? a.status : b.status;
+    }
+    const Vec3 baseline = in.site_from_cam2.t_m - in.site_from_cam1.t_m;
+    const Vec2 camera1_from_b = b.position_ne_m - Vec2(baseline.x(), baseline.y());
+    if (!((a.position_ne_m - camera1_from_b).norm() <= config_.max_position_disagreement_px * map_.geo.cell_m)) {
+        return Status(StatusCode::kDegenerate,
+                      "locate: the two frames disagree on the position (orbital.max_position_disagreement_px)");
     }
     const refine::Result& r = *in.refine;
     const Vec3& c1 = in.site_from_cam1.t_m;
@@ -422,10 +432,8 @@ Status OrbitalLocator::fitPair(const LocateInput& in, OrbitalFix& fix) const noe
         return Status(StatusCode::kDegenerate, "locate: the placed features do not spread");
     }
     fix.residual_px = rms / map_.geo.cell_m;
-    if (a.used && b.used) {
-        const double d = a.scale > b.scale ? a.scale - b.scale : b.scale - a.scale;
-        fix.scale_applied = d <= config_.max_scale_disagreement * 0.5 * (a.scale + b.scale);
-    }
+    const double d = a.scale > b.scale ? a.scale - b.scale : b.scale - a.scale;
+    fix.scale_applied = d <= config_.max_scale_disagreement * 0.5 * (a.scale + b.scale);
     fix.correction_ne_m = fix.camera1_ne_m - Vec2(c1.x(), c1.y());
     return Status::ok();
 }

@@ -61,6 +61,9 @@ struct OrbitalFixConfig {
     // error, 0..pi), scale x (1 +- scale_range) (the altitude error and the relief,
     // 0.01..0.9), shift +- (shift_sigmas x the pose's horizontal position sigma / cell +
     // shift_margin_px) orbital pixels.
+    // The frame is halved (2 x 2 means) until its pixel covers at least this fraction of
+    // an orbital cell (and it fits the registration's capacity), 0.1..4.
+    double min_pixel_cells = 0.5;
     double angle_range_rad = 0.05;
     double scale_range = 0.15;
     double shift_sigmas = 3.0;     // 0..10
@@ -71,10 +74,14 @@ struct OrbitalFixConfig {
     // scale is applied to the baseline only when both frames are used and their scales
     // agree within max_scale_disagreement (a frame's scale is only as good as its
     // registration over its footprint: 0.1-1.6 % measured, docs/app.md).
-    double min_ncc = 0.3;                   // 0..1
+    double min_ncc = 0.2;                   // 0..1
     double max_peak_ratio = 0.9;            // (0, 1]
     double max_residual_px = 2.0;           // > 0
     double max_scale_disagreement = 0.005;  // > 0, relative
+    // The fix is applied only when BOTH frames are used and put camera 1 at places within
+    // this many orbital pixels of each other (frame 2's camera moved back by the
+    // navigation's baseline): one frame alone was wrong by 11 px once in the evaluation.
+    double max_position_disagreement_px = 1.5;  // > 0
 
     // kOk, or kInvalidConfig naming the field ("orbital.min_ncc: ...").
     [[nodiscard]] Status validate() const noexcept;
