@@ -1022,7 +1022,7 @@ std::uint64_t orbitalFixSection() noexcept {
     Mat3 nadir;  // image right = east, image down = south, axis down
     nadir << 0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0;
     const Vec3 truth[2] = {Vec3(0.0, 0.0, -100.0), Vec3(1.0, 0.5, -90.0)};
-    static std::uint8_t frames[2][kD * kD];
+    static std::uint16_t frames[2][kD * kD];
     for (std::int32_t i = 0; i < 2; ++i) {
         for (std::int32_t y = 0; y < kD; ++y) {
             for (std::int32_t x = 0; x < kD; ++x) {
@@ -1033,7 +1033,7 @@ std::uint64_t orbitalFixSection() noexcept {
                 col = col < 0 ? 0 : (col >= kMap ? kMap - 1 : col);
                 row = row < 0 ? 0 : (row >= kMap ? kMap - 1 : row);
                 const std::int32_t t = (map[row * kMap + col] * 3) % 510;
-                frames[i][y * kD + x] = static_cast<std::uint8_t>(t < 255 ? t : 509 - t);
+                frames[i][y * kD + x] = static_cast<std::uint16_t>(16 * (t < 255 ? t : 509 - t) + 3);  // 12 bits
             }
         }
     }
@@ -1057,8 +1057,8 @@ std::uint64_t orbitalFixSection() noexcept {
     result.ranges_m = Span<const double>(ranges, 36);
     app::LocateInput in;
     in.model = model;
-    in.frame1 = ImageView<const std::uint8_t>(frames[0], kD, kD);
-    in.frame2 = ImageView<const std::uint8_t>(frames[1], kD, kD);
+    in.frame1 = ImageView<const std::uint16_t>(frames[0], kD, kD);
+    in.frame2 = ImageView<const std::uint16_t>(frames[1], kD, kD);
     in.site_from_cam1 = RigidPose{nadir, truth[0] + Vec3(2.0, -1.5, 0.0)};
     in.site_from_cam2 = RigidPose{nadir, in.site_from_cam1.t_m + nav_scale * (truth[1] - truth[0])};
     in.refine = &result;

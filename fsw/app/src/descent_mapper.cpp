@@ -309,8 +309,10 @@ Status DescentMapper::locateInOrbitalMap() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     LocateInput in;
     in.model = model_;
-    in.frame1 = grey1_;
-    in.frame2 = grey2_;
+    in.frame1 = image1_;
+    in.frame2 = image2_;
+    in.bit_depth1 = products_.frame1.bit_depth;
+    in.bit_depth2 = products_.frame2.bit_depth;
     in.site_from_cam1 = products_.geometry.site_from_cam1;
     in.site_from_cam2 = products_.geometry.site_from_cam2;
     in.refine = &products_.refine;

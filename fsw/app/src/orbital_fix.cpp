@@ -9,6 +9,7 @@ namespace {
 
 constexpr std::int32_t kMaxHalvings = 8;  // a 4096-px frame down to 16 px
 constexpr std::int32_t kMinRegistrationPx = 16;
+constexpr std::size_t kHistogramBins = 1024U;  // a frame's top 10 bits
 
 Status invalid(const char* reason) noexcept { return Status(StatusCode::kInvalidConfig, reason); }
 
@@ -159,6 +160,7 @@ Status OrbitalFixConfig::validate() const noexcept {
     if (!detail::inRange(max_position_disagreement_px, 1e-6, 1e6)) {
         return invalid("orbital.max_position_disagreement_px: must be > 0");
     }
+    if (!detail::inRange(max_scale_change, 1e-6, 1.0)) return invalid("orbital.max_scale_change: must be in (0, 1]");
     if (!detail::inRange(max_scale_disagreement, 1e-6, 1.0)) {
         return invalid("orbital.max_scale_disagreement: must be in (0, 1]");
     }
@@ -172,6 +174,9 @@ std::size_t OrbitalLocator::workspaceBytes(const OrbitalFixConfig& config, std::
     }
     const entropy::RegistrationConfig& r = config.registration;
     return entropy::EntropyRegistration::workspaceBytes(r)                     // its own plan
+           + Arena::arrayBytes<std::uint8_t>(static_cast<std::size_t>(frame_width) *
+                                             static_cast<std::size_t>(frame_height))  // the frame at 8 bits
+           + Arena::arrayBytes<std::uint32_t>(kHistogramBins)                  // its histogram
            + Arena::arrayBytes<std::uint8_t>(halvingBytes(frame_width, frame_height))  // the frame's halvings
            + Arena::arrayBytes<std::uint8_t>(static_cast<std::size_t>(r.max_width) *
                                              static_cast<std::size_t>(r.max_height));  // orbital cut-out
@@ -183,9 +188,11 @@ Status OrbitalLocator::init(const OrbitalFixConfig& config, std::int32_t frame_w
     has_map_ = false;
     VTM_RETURN_IF_ERROR(config.validate());
     VTM_RETURN_IF_ERROR(registration_.init(config.registration, arena));
+    stretched_ = detail::carve<std::uint8_t>(arena, frame_width, frame_height);
+    histogram_ = arena.allocateArray<std::uint32_t>(kHistogramBins);
     reduce_ = arena.allocateArray<std::uint8_t>(halvingBytes(frame_width, frame_height));
     cut_ = detail::carve<std::uint8_t>(arena, config.registration.max_width, config.registration.max_height);
-    if (reduce_.empty() || cut_.data() == nullptr) {
+    if (reduce_.empty() || cut_.data() == nullptr || stretched_.data() == nullptr || histogram_.empty()) {
         return Status(StatusCode::kOutOfMemory, "OrbitalLocator::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config, frame_width, frame_height)));
     }
@@ -202,6 +209,45 @@ Status OrbitalLocator::setMap(const OrbitalMap& map) noexcept {
     map_ = map;
     has_map_ = true;
     return Status::ok();
+}
+
+// The frame at 8 bits: its 1st .. 99th percentile (from a histogram of its top 10 bits)
+// stretched linearly over 0..255, integer arithmetic. Same size as the frame.
+void OrbitalLocator::stretchFrame(const ImageView<const std::uint16_t>& frame, std::uint8_t bit_depth) noexcept {
+    const std::uint32_t bits = bit_depth < 8U ? 8U : (bit_depth > 16U ? 16U : bit_depth);
+    const std::uint32_t shift = bits > 10U ? bits - 10U : 0U;
+    const std::uint32_t bins = 1U << (bits - shift);
+    for (std::uint32_t b = 0U; b < bins; ++b) histogram_[b] = 0U;
+    for (std::int32_t y = 0; y < frame.height(); ++y) {
+        const std::uint16_t* row = frame.row(y);
+        for (std::int32_t x = 0; x < frame.width(); ++x) {
+            const std::uint32_t b = static_cast<std::uint32_t>(row[x]) >> shift;
+            ++histogram_[b < bins ? b : bins - 1U];
+        }
+    }
+    const std::uint64_t total = static_cast<std::uint64_t>(frame.width()) * static_cast<std::uint64_t>(frame.height());
+    std::uint64_t seen = 0U;
+    std::uint32_t lo_bin = 0U;
+    std::uint32_t hi_bin = bins - 1U;
+    bool lo_found = false;
+    for (std::uint32_t b = 0U; b < bins; ++b) {
+        seen += histogram_[b];
+        if (!lo_found && 100U * seen > total) { lo_bin = b; lo_found = true; }
+        if (100U * seen >= 99U * total) { hi_bin = b; break; }
+    }
+    const std::uint32_t lo = lo_bin << shift;
+    const std::uint32_t hi = ((hi_bin + 1U) << shift) - 1U;
+    const std::uint32_t span = hi > lo ? hi - lo : 1U;
+    const ImageView<std::uint8_t> out(stretched_.data(), frame.width(), frame.height());
+    for (std::int32_t y = 0; y < frame.height(); ++y) {
+        const std::uint16_t* src = frame.row(y);
+        std::uint8_t* dst = out.row(y);
+        for (std::int32_t x = 0; x < frame.width(); ++x) {
+            const std::uint32_t v = src[x] > lo ? src[x] - lo : 0U;
+            const std::uint32_t g = (v * 255U + span / 2U) / span;
+            dst[x] = static_cast<std::uint8_t>(g > 255U ? 255U : g);
+        }
+    }
 }
 
 // Halves the frame until its pixel covers at least min_pixel_cells of an orbital cell and it fits the
@@ -327,7 +373,12 @@ void OrbitalLocator::fitFrame(const LocateInput& in, std::int32_t index, Located
 // Registers one frame around the navigation's prediction and applies the confidence rules.
 Status OrbitalLocator::locateFrame(const LocateInput& in, std::int32_t index, LocatedFrame& out) noexcept {
     const RigidPose& pose = index == 0 ? in.site_from_cam1 : in.site_from_cam2;
-    const ImageView<const std::uint8_t>& frame = index == 0 ? in.frame1 : in.frame2;
+    const ImageView<const std::uint16_t>& frame16 = index == 0 ? in.frame1 : in.frame2;
+    if (frame16.width() > stretched_.width() || frame16.height() > stretched_.height()) {
+        return Status(StatusCode::kSizeMismatch, "locate: frame larger than the planned frame size", frame16.width());
+    }
+    stretchFrame(frame16, index == 0 ? in.bit_depth1 : in.bit_depth2);
+    const ImageView<const std::uint8_t> frame(stretched_.data(), frame16.width(), frame16.height());
     const double height = ground_z_m_ - pose.t_m.z();  // site z down
     if (!(height > 0.0)) {
         return Status(StatusCode::kDegenerate, "locate: the camera is not above the features' ground");
@@ -433,7 +484,9 @@ Status OrbitalLocator::fitPair(const LocateInput& in, OrbitalFix& fix) const noe
     }
     fix.residual_px = rms / map_.geo.cell_m;
     const double d = a.scale > b.scale ? a.scale - b.scale : b.scale - a.scale;
-    fix.scale_applied = d <= config_.max_scale_disagreement * 0.5 * (a.scale + b.scale);
+    const double change = fix.scale > 1.0 ? fix.scale - 1.0 : 1.0 - fix.scale;
+    fix.scale_applied = d <= config_.max_scale_disagreement * 0.5 * (a.scale + b.scale) &&
+                        change <= config_.max_scale_change;
     fix.correction_ne_m = fix.camera1_ne_m - Vec2(c1.x(), c1.y());
     return Status::ok();
 }

@@ -78,6 +78,10 @@ struct OrbitalFixConfig {
     double max_peak_ratio = 0.9;            // (0, 1]
     double max_residual_px = 2.0;           // > 0
     double max_scale_disagreement = 0.005;  // > 0, relative
+    // ... and only when it changes the navigation's baseline length by at most this
+    // fraction (0.5 % +- 0.2 % in the simulator's odometry model: 2 % is a gross error;
+    // two frames of 30-40 orbital px once agreed on a scale 2.5 % wrong), (0, 1].
+    double max_scale_change = 0.02;
     // The fix is applied only when BOTH frames are used and put camera 1 at places within
     // this many orbital pixels of each other (frame 2's camera moved back by the
     // navigation's baseline): one frame alone was wrong by 11 px once in the evaluation.
@@ -122,8 +126,13 @@ struct OrbitalFix {
 // What locate() reads: the pair as the refine stage left it.
 struct LocateInput {
     CameraModel model{};                  // both frames (undistorted pinhole)
-    ImageView<const std::uint8_t> frame1{};  // 8-bit frames, the model's size
-    ImageView<const std::uint8_t> frame2{};
+    // The frames as captured (8..16 significant bits, the model's size). They are stretched
+    // to 8 bits between their own 1st and 99th percentiles before registration: the top 8
+    // of 12 bits leave a dim descent frame a few dozen grey levels.
+    ImageView<const std::uint16_t> frame1{};
+    ImageView<const std::uint16_t> frame2{};
+    std::uint8_t bit_depth1 = 12;
+    std::uint8_t bit_depth2 = 12;
     RigidPose site_from_cam1{};           // navigation
     RigidPose site_from_cam2{};           // refined relative pose, navigation baseline length
     const refine::Result* refine = nullptr;  // inliers: pixels in both frames, ranges along cam 1's rays
@@ -161,6 +170,10 @@ private:
     OrbitalFixConfig config_{};
     entropy::EntropyRegistration registration_{};
     OrbitalMap map_{};
+    void stretchFrame(const ImageView<const std::uint16_t>& frame, std::uint8_t bit_depth) noexcept;
+
+    ImageView<std::uint8_t> stretched_{};  // the frame at 8 bits (capacity = the frame size)
+    Span<std::uint32_t> histogram_{};      // 1024 bins of the frame's top 10 bits
     Span<std::uint8_t> reduce_{};  // the frame's halvings, one after another
     ImageView<std::uint8_t> cut_{};  // the orbital cut-out, 8 bit (capacity)
     double ground_z_m_ = 0.0;       // site z of the inliers' mean (the ground)
