@@ -161,6 +161,8 @@ private:
                                      LocatedFrame& out, ImageView<const std::uint8_t>& reduced) noexcept;
     [[nodiscard]] Status cutOrbital(const Vec2& lo, const Vec2& hi, LocatedFrame& out,
                                     ImageView<const std::uint8_t>& cut) noexcept;
+    [[nodiscard]] bool planeOffset(const LocateInput& in, std::int32_t index, std::size_t j, const Vec3& from,
+                                   Vec2& out) const noexcept;
     void fitFrame(const LocateInput& in, std::int32_t index, LocatedFrame& out) const noexcept;
     [[nodiscard]] Status fitPair(const LocateInput& in, OrbitalFix& fix) const noexcept;
     // Site north/east of a feature seen at full-resolution `pixel` of frame `index`, through
