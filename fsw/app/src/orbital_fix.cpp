@@ -396,20 +396,36 @@ Status OrbitalLocator::locateFrame(const LocateInput& in, std::int32_t index, Lo
     if (frame16.width() > stretched_.width() || frame16.height() > stretched_.height()) {
         return Status(StatusCode::kSizeMismatch, "locate: frame larger than the planned frame size", frame16.width());
     }
-    stretchFrame(frame16, index == 0 ? in.bit_depth1 : in.bit_depth2);
-    const ImageView<const std::uint8_t> frame(stretched_.data(), frame16.width(), frame16.height());
     const double height = ground_z_m_ - pose.t_m.z();  // site z down
     if (!(height > 0.0)) {
         return Status(StatusCode::kDegenerate, "locate: the camera is not above the features' ground");
     }
+    stretchFrame(frame16, index == 0 ? in.bit_depth1 : in.bit_depth2);
+    const ImageView<const std::uint8_t> frame(stretched_.data(), frame16.width(), frame16.height());
     ImageView<const std::uint8_t> reduced;
     VTM_RETURN_IF_ERROR(reduceFrame(frame, height / in.model.fx_px, out, reduced));
-    // The prediction: a 3 x 3 grid of the reduced frame on the ground, in orbital pixels.
+    entropy::RegistrationRequest rq;
+    ImageView<const std::uint8_t> cut;
+    VTM_RETURN_IF_ERROR(predict(in, index, reduced, out, rq, cut));
+    VTM_RETURN_IF_ERROR(registration_.registerImages(reduced, cut, rq, out.registration));
+    return acceptFrame(in, index, out);
+}
+
+// The navigation's prediction of the reduced frame in the orbital map: a 3 x 3 grid of it
+// on the ground, in orbital pixels, and the least-squares similarity through them; the
+// orbital cut-out around it and the registration's search.
+Status OrbitalLocator::predict(const LocateInput& in, std::int32_t index, const ImageView<const std::uint8_t>& reduced,
+                               LocatedFrame& out, entropy::RegistrationRequest& rq,
+                               ImageView<const std::uint8_t>& cut) noexcept {
+    const RigidPose& pose = index == 0 ? in.site_from_cam1 : in.site_from_cam2;
     Vec2 from[9];
     Vec2 to[9];
     std::int32_t n = 0;
     for (std::int32_t k = 0; k < 9; ++k) {
-        const Vec2 q(0.5 * (k % 3) * (reduced.width() - 1), 0.5 * (k / 3) * (reduced.height() - 1));
+        const std::int32_t col = k % 3;
+        const std::int32_t row = k / 3;
+        const Vec2 q(0.5 * static_cast<double>(col) * (reduced.width() - 1),
+                     0.5 * static_cast<double>(row) * (reduced.height() - 1));
         Vec3 ground;
         if (groundPoint(in.model, pose, fullPixel(q, out.reduction), ground_z_m_, ground)) {
             from[n] = q;
@@ -422,7 +438,8 @@ Status OrbitalLocator::locateFrame(const LocateInput& in, std::int32_t index, Lo
     }
     const Similarity predicted = fitSimilarity(from, to, n);
     out.predicted_px = orbitalPx(map_.geo, pose.t_m.x(), pose.t_m.y());
-    const double shift_range = config_.shift_sigmas * in.position_sigma_m[index] / map_.geo.cell_m + config_.shift_margin_px;
+    const double shift_range =
+        config_.shift_sigmas * in.position_sigma_m[index == 0 ? 0 : 1] / map_.geo.cell_m + config_.shift_margin_px;
     Vec2 lo = to[0];
     Vec2 hi = to[0];
     for (std::int32_t k = 1; k < n; ++k) {
@@ -430,11 +447,9 @@ Status OrbitalLocator::locateFrame(const LocateInput& in, std::int32_t index, Lo
         hi = hi.cwiseMax(to[k]);
     }
     const Vec2 pad(shift_range + 2.0, shift_range + 2.0);
-    ImageView<const std::uint8_t> cut;
     VTM_RETURN_IF_ERROR(cutOrbital(lo - pad, hi + pad, out, cut));
     const double scale = math::sqrt(predicted.ar * predicted.ar + predicted.ai * predicted.ai);
     const double angle = math::atan2(predicted.ai, predicted.ar);
-    entropy::RegistrationRequest rq;
     rq.angle_min_rad = angle - config_.angle_range_rad;
     rq.angle_max_rad = angle + config_.angle_range_rad;
     rq.scale_min = scale * (1.0 - config_.scale_range);
@@ -448,7 +463,11 @@ Status OrbitalLocator::locateFrame(const LocateInput& in, std::int32_t index, Lo
     rq.shift_x_px = t.x();
     rq.shift_y_px = t.y();
     rq.shift_range_px = shift_range;
-    VTM_RETURN_IF_ERROR(registration_.registerImages(reduced, cut, rq, out.registration));
+    return Status::ok();
+}
+
+// The confidence rules on a registered frame, and its features placed and fitted.
+Status OrbitalLocator::acceptFrame(const LocateInput& in, std::int32_t index, LocatedFrame& out) const noexcept {
     if (out.registration.ncc < config_.min_ncc) {
         return Status(StatusCode::kNoData, "locate: peak NCC below orbital.min_ncc");
     }
@@ -488,8 +507,9 @@ Status OrbitalLocator::fitPair(const LocateInput& in, OrbitalFix& fix) const noe
     for (std::size_t j = 0U; j < r.pixels_a.size(); ++j) {
         for (std::int32_t i = 0; i < 2; ++i) {
             Vec2 offset;
-            if (fix.frames[i].used && planeOffset(in, i, j, c1, offset)) {
-                fit.add(offset, groundOf(fix.frames[i], i == 0 ? r.pixels_a[j] : r.pixels_b[j]));
+            const LocatedFrame& f = i == 0 ? a : b;
+            if (f.used && planeOffset(in, i, j, c1, offset)) {
+                fit.add(offset, groundOf(f, i == 0 ? r.pixels_a[j] : r.pixels_b[j]));
             }
         }
     }
@@ -528,9 +548,9 @@ Status OrbitalLocator::locate(const LocateInput& in, OrbitalFix& fix) noexcept {
         return Status(StatusCode::kDegenerate, "locate: no refined inlier to place");
     }
     ground_z_m_ = z / n;
-    for (std::int32_t i = 0; i < 2; ++i) {
+    for (std::size_t i = 0U; i < fix.frames.size(); ++i) {
         LocatedFrame& f = fix.frames[i];
-        f.status = locateFrame(in, i, f);
+        f.status = locateFrame(in, static_cast<std::int32_t>(i), f);
         f.used = f.status.isOk();
     }
     return fitPair(in, fix);

@@ -11,6 +11,7 @@
 // + - * / and vtm::math only; the registration's own integer sums).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -112,7 +113,7 @@ struct OrbitalFix {
     Status status{};              // kOk when the fix was usable; otherwise why not
     bool attempted = false;       // an orbital map was set and the stage ran
     bool applied = false;         // the camera poses were replaced
-    LocatedFrame frames[2]{};
+    std::array<LocatedFrame, 2> frames{};
     // The located scale of the navigation's baseline and whether it was applied: only when
     // both frames were used and agree within max_scale_disagreement (otherwise the
     // navigation's baseline length stays; the position fix does not depend on it).
@@ -159,11 +160,15 @@ private:
     [[nodiscard]] Status locateFrame(const LocateInput& in, std::int32_t index, LocatedFrame& out) noexcept;
     [[nodiscard]] Status reduceFrame(const ImageView<const std::uint8_t>& frame, double ground_px_m,
                                      LocatedFrame& out, ImageView<const std::uint8_t>& reduced) noexcept;
+    [[nodiscard]] Status predict(const LocateInput& in, std::int32_t index, const ImageView<const std::uint8_t>& reduced,
+                                 LocatedFrame& out, entropy::RegistrationRequest& rq,
+                                 ImageView<const std::uint8_t>& cut) noexcept;
     [[nodiscard]] Status cutOrbital(const Vec2& lo, const Vec2& hi, LocatedFrame& out,
                                     ImageView<const std::uint8_t>& cut) noexcept;
     [[nodiscard]] bool planeOffset(const LocateInput& in, std::int32_t index, std::size_t j, const Vec3& from,
                                    Vec2& out) const noexcept;
     void fitFrame(const LocateInput& in, std::int32_t index, LocatedFrame& out) const noexcept;
+    [[nodiscard]] Status acceptFrame(const LocateInput& in, std::int32_t index, LocatedFrame& out) const noexcept;
     [[nodiscard]] Status fitPair(const LocateInput& in, OrbitalFix& fix) const noexcept;
     // Site north/east of a feature seen at full-resolution `pixel` of frame `index`, through
     // that frame's registration.
