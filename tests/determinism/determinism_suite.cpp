@@ -9,6 +9,7 @@
 #include "sim/orbital.hpp"
 #include "sim/render.hpp"
 #include "sim/terrain.hpp"
+#include "vtm/app/orbital_fix.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/descent/plane_sweep.hpp"
 #include "vtm/entropy/local_entropy.hpp"
@@ -987,6 +988,116 @@ std::uint64_t icpSection() noexcept {
     return h.value();
 }
 
+// The descent's orbital fix (issue 24 item 4, fsw/app OrbitalLocator): a generated 128 x 128
+// orbital map at 1 m per pixel, two nadir 96 x 96 frames of it (100 m and 90 m up, through
+// a folding response), 36 ground features in both, navigation poses 2.5 m off with a 1 %
+// long baseline. Every figure of the located frames and of the fix.
+std::uint64_t orbitalFixSection() noexcept {
+    constexpr std::int32_t kMap = 128;
+    constexpr std::int32_t kD = 96;
+    static std::uint8_t map[kMap * kMap];
+    for (std::int32_t y = 0; y < kMap; ++y) {
+        for (std::int32_t x = 0; x < kMap; ++x) {
+            map[y * kMap + x] = static_cast<std::uint8_t>(60 + (3 * x + y) / 4);
+        }
+    }
+    for (std::uint64_t k = 0; k < 40U; ++k) {
+        const std::uint64_t r = mixBits64(k + 424U);
+        const auto cx = static_cast<std::int32_t>(r % kMap);
+        const auto cy = static_cast<std::int32_t>((r >> 8U) % kMap);
+        const auto rad = static_cast<std::int32_t>(2U + (r >> 16U) % 7U);
+        const auto level = static_cast<std::uint8_t>(20U + (r >> 24U) % 200U);
+        for (std::int32_t y = cy - rad; y <= cy + rad; ++y) {
+            for (std::int32_t x = cx - rad; x <= cx + rad; ++x) {
+                if (x >= 0 && y >= 0 && x < kMap && y < kMap) map[y * kMap + x] = level;
+            }
+        }
+    }
+    app::OrbitalMap orbital;
+    orbital.image8 = ImageView<const std::uint8_t>(map, kMap, kMap);
+    orbital.geo.north0_m = 63.5;  // centred on the site origin
+    orbital.geo.east0_m = -63.5;
+    orbital.geo.cell_m = 1.0;
+    const CameraModel model = makePinhole(kD, kD, 42.0);
+    Mat3 nadir;  // image right = east, image down = south, axis down
+    nadir << 0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0;
+    const Vec3 truth[2] = {Vec3(0.0, 0.0, -100.0), Vec3(1.0, 0.5, -90.0)};
+    static std::uint16_t frames[2][kD * kD];
+    for (std::int32_t i = 0; i < 2; ++i) {
+        for (std::int32_t y = 0; y < kD; ++y) {
+            for (std::int32_t x = 0; x < kD; ++x) {
+                const Vec3 d = nadir * Vec3((x - model.cx_px) / model.fx_px, (y - model.cy_px) / model.fy_px, 1.0);
+                const Vec3 g = truth[i] + (-truth[i].z() / d.z()) * d;
+                auto col = static_cast<std::int32_t>(g.y() + 63.5 + 0.5);
+                auto row = static_cast<std::int32_t>(63.5 - g.x() + 0.5);
+                col = col < 0 ? 0 : (col >= kMap ? kMap - 1 : col);
+                row = row < 0 ? 0 : (row >= kMap ? kMap - 1 : row);
+                const std::int32_t t = (map[row * kMap + col] * 3) % 510;
+                frames[i][y * kD + x] = static_cast<std::uint16_t>(16 * (t < 255 ? t : 509 - t) + 3);  // 12 bits
+            }
+        }
+    }
+    static Vec2 pixels[2][36];
+    static std::uint8_t inliers[36];
+    static double ranges[36];
+    const double nav_scale = 1.01;
+    for (std::int32_t j = 0; j < 36; ++j) {
+        const Vec3 ground(-20.0 + 8.0 * (j / 6), -20.0 + 8.0 * (j % 6), 0.0);
+        for (std::int32_t i = 0; i < 2; ++i) {
+            const Vec3 c = nadir.transpose() * (ground - truth[i]);
+            pixels[i][j] = Vec2(model.fx_px * c.x() / c.z() + model.cx_px, model.fy_px * c.y() / c.z() + model.cy_px);
+        }
+        inliers[j] = j == 7 ? 0U : 1U;
+        ranges[j] = nav_scale * (ground - truth[0]).norm();
+    }
+    refine::Result result;
+    result.pixels_a = Span<const Vec2>(pixels[0], 36);
+    result.pixels_b = Span<const Vec2>(pixels[1], 36);
+    result.inliers = Span<const std::uint8_t>(inliers, 36);
+    result.ranges_m = Span<const double>(ranges, 36);
+    app::LocateInput in;
+    in.model = model;
+    in.frame1 = ImageView<const std::uint16_t>(frames[0], kD, kD);
+    in.frame2 = ImageView<const std::uint16_t>(frames[1], kD, kD);
+    in.site_from_cam1 = RigidPose{nadir, truth[0] + Vec3(2.0, -1.5, 0.0)};
+    in.site_from_cam2 = RigidPose{nadir, in.site_from_cam1.t_m + nav_scale * (truth[1] - truth[0])};
+    in.refine = &result;
+    in.position_sigma_m[0] = 2.0;
+    in.position_sigma_m[1] = 2.0;
+    app::OrbitalFixConfig c;
+    c.enabled = true;
+    c.registration.max_width = kMap;
+    c.registration.max_height = kMap;
+    static std::byte pool[1U << 20U];
+    Arena arena(pool, sizeof pool);
+    static app::OrbitalLocator locator;
+    Hasher h;
+    h.addI64(static_cast<std::int64_t>(locator.init(c, kD, kD, arena).code()));
+    h.addI64(static_cast<std::int64_t>(locator.setMap(orbital).code()));
+    app::OrbitalFix fix;
+    h.addI64(static_cast<std::int64_t>(locator.locate(in, fix).code()));
+    h.addDouble(fix.scale);
+    h.addI64(fix.scale_applied ? 1 : 0);
+    h.addDouble(fix.camera1_ne_m.x());
+    h.addDouble(fix.camera1_ne_m.y());
+    h.addDouble(fix.residual_px);
+    for (const app::LocatedFrame& f : fix.frames) {
+        h.addI64(static_cast<std::int64_t>(f.status.code()));
+        h.addI64(f.reduction);
+        h.addI64(f.features);
+        for (std::int32_t i = 0; i < 6; ++i) h.addDouble(f.registration.image2_from_image1(i / 3, i % 3));
+        h.addDouble(f.registration.ncc);
+        h.addDouble(f.registration.second_ncc);
+        h.addDouble(f.position_ne_m.x());
+        h.addDouble(f.position_ne_m.y());
+        h.addDouble(f.scale);
+        h.addDouble(f.residual_px);
+        h.addDouble(f.cut_origin_px.x());
+        h.addDouble(f.cut_origin_px.y());
+    }
+    return h.value();
+}
+
 }  // namespace
 
 const char* sectionName(Section s) noexcept {
@@ -1003,6 +1114,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kEntropy: return "entropy";
         case Section::kOctree: return "octree";
         case Section::kIcp: return "icp";
+        case Section::kOrbitalFix: return "orbital_fix";
     }
     return "unknown";
 }
@@ -1021,6 +1133,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kEntropy: return entropySection();
         case Section::kOctree: return octreeSection();
         case Section::kIcp: return icpSection();
+        case Section::kOrbitalFix: return orbitalFixSection();
     }
     return 0U;
 }

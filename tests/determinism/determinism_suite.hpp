@@ -15,7 +15,8 @@
 //   - the descent plane sweep on a rendered 12-bit nadir pair (depth, score, reason);
 //   - local-entropy images and a multi-modal registration on a generated pair;
 //   - the terrain octree (every node) and its height products at three levels;
-//   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures).
+//   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures);
+//   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames.
 #pragma once
 
 #include <cstdint>
@@ -35,8 +36,9 @@ enum class Section : std::uint8_t {
     kEntropy = 9,
     kOctree = 10,
     kIcp = 11,
+    kOrbitalFix = 12,
 };
-constexpr int kSectionCount = 12;
+constexpr int kSectionCount = 13;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;

@@ -75,6 +75,12 @@ Status DescentMapperConfig::validate() const noexcept {
             return invalid("feature_depth_margin: must be 0..0.9");
         }
     }
+    if (orbital.enabled) {
+        if (!refine_pose) {
+            return invalid("orbital.enabled: needs refine_pose (locate places the refined features)");
+        }
+        VTM_RETURN_IF_ERROR(orbital.validate());
+    }
     if (grid_cells < 16 || grid_cells > kMaxGridCells) {
         return invalid("grid_cells: must be 16..4096", grid_cells);
     }
@@ -96,7 +102,11 @@ std::size_t DescentMapper::workspaceBytes(const DescentMapperConfig& config) noe
                                    ? refine::PairRefiner::workspaceBytes(refineConfigOf(config))  // its own plan
                                          + 2U * Arena::arrayBytes<std::uint8_t>(b.pixels)  // 8-bit frames
                                    : 0U;
-    return refine + descent::PlaneSweep::workspaceBytes(config.sweep)  // the sweep's own plan
+    const std::size_t locate = config.orbital.enabled  // the registration and its cut-outs
+                                   ? OrbitalLocator::workspaceBytes(config.orbital, config.sweep.max_width,
+                                                                    config.sweep.max_height)
+                                   : 0U;
+    return refine + locate + descent::PlaneSweep::workspaceBytes(config.sweep)  // the sweep's own plan
            + 2U * Arena::arrayBytes<std::uint16_t>(b.pixels)            // image 1, image 2
            + Arena::arrayBytes<float>(b.pixels)                         // depth of image 1
            + Arena::arrayBytes<std::uint8_t>(b.pixels)                  // reason per pixel
@@ -133,6 +143,9 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
                           static_cast<std::int64_t>(workspaceBytes(config)));
         }
     }
+    if (config.orbital.enabled) {
+        VTM_RETURN_IF_ERROR(locator_.init(config.orbital, w, h, arena));
+    }
     if (image1_.data() == nullptr || image2_.data() == nullptr || depth_.data() == nullptr ||
         reason_.data() == nullptr) {
         return Status(StatusCode::kOutOfMemory, "DescentMapper::init: arena smaller than workspaceBytes(config)",
@@ -147,6 +160,16 @@ Status DescentMapper::init(const DescentMapperConfig& config, Arena& arena, hal:
     events_ = &events;
     initialized_ = true;
     return Status::ok();
+}
+
+Status DescentMapper::setOrbitalMap(const OrbitalMap& map) noexcept {
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "DescentMapper::setOrbitalMap: init() has not succeeded");
+    }
+    if (!config_.orbital.enabled) {
+        return Status(StatusCode::kInvalidArgument, "setOrbitalMap: orbital.enabled is false (no memory planned for the fix)");
+    }
+    return locator_.setMap(map);
 }
 
 Status DescentMapper::finish(Stage stage, const Status& status, std::int64_t quality, std::uint64_t t0_ns) noexcept {
@@ -270,6 +293,60 @@ Status DescentMapper::refinePose() noexcept {
     return finish(Stage::kRefine, st, st.isOk() ? r.motion.inliers : r.matching.matched, t0);
 }
 
+namespace {
+
+// Horizontal 1-sigma of a pose (the larger of north and east), metres.
+double horizontalSigmaM(const hal::PoseEstimate& pose) noexcept {
+    const double v = pose.covariance[0] > pose.covariance[7] ? pose.covariance[0] : pose.covariance[7];
+    return v > 0.0 ? math::sqrt(v) : 0.0;
+}
+
+}  // namespace
+
+// The locate stage (orbital_fix.hpp): both frames in the orbital map; a usable fix
+// replaces camera 1's horizontal position and the baseline length. Quality: frames used.
+Status DescentMapper::locateInOrbitalMap() noexcept {
+    const std::uint64_t t0 = clock_->monotonicNs();
+    LocateInput in;
+    in.model = model_;
+    in.frame1 = image1_;
+    in.frame2 = image2_;
+    in.bit_depth1 = products_.frame1.bit_depth;
+    in.bit_depth2 = products_.frame2.bit_depth;
+    in.site_from_cam1 = products_.geometry.site_from_cam1;
+    in.site_from_cam2 = products_.geometry.site_from_cam2;
+    in.refine = &products_.refine;
+    in.position_sigma_m[0] = horizontalSigmaM(pose1_);
+    in.position_sigma_m[1] = horizontalSigmaM(pose2_);
+    OrbitalFix& fix = products_.orbital;
+    Status st = locator_.locate(in, fix);
+    fix.status = st;
+    if (st.isOk()) {
+        st = applyOrbitalFix();
+    }
+    const std::int64_t used = (fix.frames[0].used ? 1 : 0) + (fix.frames[1].used ? 1 : 0);
+    const bool ok = st.isOk();
+    return finish(Stage::kLocate, ok || !config_.orbital.required ? Status::ok() : st, ok ? used : 0, t0);
+}
+
+// Camera 1 moves to its located horizontal position (its height stays the navigation's:
+// an orthographic map does not show it); camera 2 follows at the located scale of the
+// baseline when the two frames agree on it (scale_applied), and the sweep's depth range
+// (from the features) scales with it.
+Status DescentMapper::applyOrbitalFix() noexcept {
+    OrbitalFix& fix = products_.orbital;
+    RigidPose& p1 = products_.geometry.site_from_cam1;
+    RigidPose& p2 = products_.geometry.site_from_cam2;
+    const Vec3 baseline = p2.t_m - p1.t_m;
+    const double k = fix.scale_applied ? fix.scale : 1.0;
+    VTM_RETURN_IF_ERROR(setSweepRange(k * sweep_.config().depth_min_m, k * sweep_.config().depth_max_m));
+    p1.t_m.x() = fix.camera1_ne_m.x();
+    p1.t_m.y() = fix.camera1_ne_m.y();
+    p2.t_m = p1.t_m + k * baseline;
+    fix.applied = true;
+    return Status::ok();
+}
+
 Status DescentMapper::runSweep() noexcept {
     const std::uint64_t t0 = clock_->monotonicNs();
     descent::SweepOutput out;
@@ -315,6 +392,7 @@ Status DescentMapper::map() noexcept {
         return Status(StatusCode::kNotInitialized, "DescentMapper::map: init() has not succeeded");
     }
     products_.refine = refine::Result{};
+    products_.orbital = OrbitalFix{};
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture1, image1_, products_.frame1));
     VTM_RETURN_IF_ERROR(poseOf(Stage::kPose1, products_.frame1, pose1_));
     VTM_RETURN_IF_ERROR(capture(Stage::kCapture2, image2_, products_.frame2));
@@ -322,6 +400,9 @@ Status DescentMapper::map() noexcept {
     VTM_RETURN_IF_ERROR(planGeometry());
     if (config_.refine_pose) {
         VTM_RETURN_IF_ERROR(refinePose());
+    }
+    if (config_.orbital.enabled) {
+        VTM_RETURN_IF_ERROR(locateInOrbitalMap());
     }
     VTM_RETURN_IF_ERROR(runSweep());
     VTM_RETURN_IF_ERROR(runGrid());

@@ -21,6 +21,7 @@ const char* stageName(Stage stage) noexcept {
         case Stage::kRegister: return "register";
         case Stage::kInsert: return "insert";
         case Stage::kExtract: return "extract";
+        case Stage::kLocate: return "locate";
         case Stage::kNone: break;
     }
     return "none";

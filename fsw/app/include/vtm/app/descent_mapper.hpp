@@ -16,6 +16,12 @@
 //             and translation direction, with the attitude prior; the baseline length stays
 //             the odometry's); camera 2's pose is replaced by the refined one, and the
 //             sweep's depth range becomes the inliers' depth range
+//   locate    (orbital.enabled, with an orbital map set) both frames registered to the
+//             orbital map around the navigation's prediction (orbital_fix.hpp); when the
+//             fix is confident, camera 1's horizontal position and the baseline length
+//             (the depth scale) come from it, and the map lands in orbital coordinates.
+//             A fix that fails keeps the navigation's answer (quality 0) unless
+//             orbital.required
 //   sweep     descent::PlaneSweep: depth of every pixel of image 1 (or a reason)
 //   grid      terrain::HeightMap (grid_reducer: the mean by default) on a grid of
 //             grid_cells^2 centred under camera 1: descent::addDepthToHeightMap
@@ -37,6 +43,7 @@
 #include "hal/event_log.hpp"
 #include "hal/odometry.hpp"
 #include "vtm/app/camera_mount.hpp"
+#include "vtm/app/orbital_fix.hpp"
 #include "vtm/app/stage_log.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/image.hpp"
@@ -92,6 +99,10 @@ struct DescentMapperConfig {
     // How a cell's points become its elevation. The mean: a descent cell holds the points
     // of a few pixels of one surface, and their mean averages the depth noise.
     terrain::Reducer grid_reducer = terrain::Reducer::kMean;
+    // The absolute fix from an orbital map (stage locate; needs refine_pose). Off by
+    // default: enabling it plans the registration's memory; the map is given by
+    // DescentMapper::setOrbitalMap.
+    OrbitalFixConfig orbital{};
 
     // kOk, or kInvalidConfig naming the field (the sweep's own fields as
     // descent::Config::validate names them, prefixed by nothing).
@@ -115,6 +126,8 @@ struct DescentProducts {
     // refine_pose is off): refine::PairRefiner's result (counts per step, matches, inliers,
     // ranges, the motion, the change from the odometry in degrees).
     refine::Result refine{};
+    // locate: what the orbital map said (attempted = false without the stage or a map).
+    OrbitalFix orbital{};
     double depth_min_m = 0.0;            // the depth range swept (geometry, or refine's)
     double depth_max_m = 0.0;
     std::int64_t cells_filled = 0;
@@ -136,6 +149,12 @@ public:
     [[nodiscard]] Status init(const DescentMapperConfig& config, Arena& arena, hal::Camera& camera,
                               hal::Odometry& odometry, const hal::Clock& clock, hal::EventLog& events) noexcept;
 
+    // The orbital reference for the locate stage, once after init() and before the
+    // requests: a view of the caller's image (static, unchanged while used) and its
+    // georeference. kNotInitialized before init(); kInvalidArgument when orbital.enabled
+    // is false or the map is bad (validateOrbitalMap names the field).
+    [[nodiscard]] Status setOrbitalMap(const OrbitalMap& map) noexcept;
+
     // One request (see the file comment). kNotInitialized before a successful init();
     // otherwise the failing stage's Status, e.g. kNoData from capture2 for a dropped frame,
     // kCorruptData from pose1 for a NaN pose, kDegenerate from geometry when image 2 is not
@@ -154,6 +173,8 @@ private:
     [[nodiscard]] Status refinePose() noexcept;
     [[nodiscard]] Status depthRangeFromFeatures() noexcept;
     [[nodiscard]] Status setSweepRange(double zmin, double zmax) noexcept;
+    [[nodiscard]] Status locateInOrbitalMap() noexcept;
+    [[nodiscard]] Status applyOrbitalFix() noexcept;
     [[nodiscard]] Status runSweep() noexcept;
     [[nodiscard]] Status runGrid() noexcept;
     // Records a stage that began at t0_ns and returns its status.
@@ -167,6 +188,7 @@ private:
     CameraModel model_{};
     descent::PlaneSweep sweep_{};
     refine::PairRefiner refiner_{};
+    OrbitalLocator locator_{};
     ImageView<std::uint8_t> grey1_{};  // 8-bit copies for the feature modules
     ImageView<std::uint8_t> grey2_{};
     ImageView<std::uint16_t> image1_{};

@@ -36,6 +36,8 @@ enum class Stage : std::uint8_t {
     kRegister = 13,    // quality: ICP correspondences at the final pose
     kInsert = 14,      // quality: samples inserted into the octree
     kExtract = 15,     // quality: bins with data in the finest product
+    // DescentMapper, after refine (orbital.enabled)
+    kLocate = 16,      // quality: frames of the pair located in the orbital map and used (0: the navigation's answer kept)
 };
 constexpr std::uint16_t kEventStageBase = 0x0A00U;
 
