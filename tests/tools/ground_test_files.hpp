@@ -5,12 +5,14 @@
 
 #include <gtest/gtest.h>
 
-#include <stdlib.h>  // mkdtemp
+#include <stdlib.h>    // mkdtemp
+#include <sys/wait.h>  // WIFEXITED
 
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -82,6 +84,36 @@ inline std::string testDataDir() {
 #else
     return "";
 #endif
+}
+
+// The whole of a file's bytes ("" when it cannot be read).
+inline std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// A command as a user runs it: exit code, stdout, stderr.
+struct CommandRun {
+    int exit_code = -1;
+    std::string out;
+    std::string err;
+};
+
+// Runs `'EXE' ARGS` through the shell with stdout and stderr captured into files of `dir`;
+// `in_dir`: from inside `dir` (relative paths in ARGS are its files).
+inline CommandRun runCommand(const TempDir& dir, const std::string& exe, const std::string& args, bool in_dir = false) {
+    const std::string out = dir.file("stdout.txt");
+    const std::string err = dir.file("stderr.txt");
+    const std::string cd = in_dir ? "cd '" + dir.file("") + "' && " : std::string();
+    const std::string cmd = cd + "'" + exe + "' " + args + " >'" + out + "' 2>'" + err + "'";
+    const int status = std::system(cmd.c_str());
+    CommandRun r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
 }
 
 }  // namespace vtm::ground::test

@@ -22,31 +22,12 @@
 namespace vtm::ground {
 namespace {
 
-struct CommandRun {
-    int exit_code = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test::CommandRun;
+using test::runCommand;
+using test::slurp;
 
 // Runs `vtm ARGS` with stdout and stderr captured into files of `dir`.
-CommandRun vtm(const test::TempDir& dir, const std::string& args) {
-    const std::string out = dir.file("stdout.txt");
-    const std::string err = dir.file("stderr.txt");
-    const std::string cmd = std::string("'") + VTM_EXECUTABLE + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    CommandRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-}
+CommandRun vtm(const test::TempDir& dir, const std::string& args) { return runCommand(dir, VTM_EXECUTABLE, args); }
 
 // A failed run: exit code `code`, nothing on stdout, exactly one line on stderr that
 // contains `needle`.

@@ -27,6 +27,10 @@
 namespace vtm::ground {
 namespace {
 
+using test::CommandRun;
+using test::runCommand;
+using test::slurp;
+
 using icp::test::motion;
 using tools::kExitInputError;
 using tools::kExitOk;
@@ -34,31 +38,7 @@ using tools::kExitUsageError;
 using icp::test::rotationErrorDeg;
 using icp::test::terrainZ;
 
-struct CommandRun {
-    int exit_code = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-CommandRun vtm(const test::TempDir& dir, const std::string& args) {
-    const std::string out = dir.file("stdout.txt");
-    const std::string err = dir.file("stderr.txt");
-    const std::string cmd = std::string("cd '") + dir.file("") + "' && '" + VTM_EXECUTABLE + "' " + args + " >'" +
-                            out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    CommandRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-}
+CommandRun vtm(const test::TempDir& dir, const std::string& args) { return runCommand(dir, VTM_EXECUTABLE, args, true); }
 
 ::testing::AssertionResult failsWith(const CommandRun& r, int code, const std::string& needle) {
     const bool one_line = !r.err.empty() && r.err.find('\n') == r.err.size() - 1;

@@ -31,29 +31,14 @@
 namespace vtm::ground {
 namespace {
 
+using test::CommandRun;
+using test::runCommand;
+using test::slurp;
+
 const std::string kSmall = std::string(VTM_SCENARIO_DIR) + "/test_rover_small.scn";
 
-struct CommandRun {
-    int exit_code = -1;
-    std::string err;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 CommandRun vtmSim(const test::TempDir& dir, const std::string& args) {
-    const std::string out = dir.file("stdout.txt");
-    const std::string err = dir.file("stderr.txt");
-    const std::string cmd = std::string("'") + VTM_SIM_EXECUTABLE + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    CommandRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.err = slurp(err);
-    return r;
+    return runCommand(dir, VTM_SIM_EXECUTABLE, args);
 }
 
 // The scenario computed in this process: terrain, frames, renders.

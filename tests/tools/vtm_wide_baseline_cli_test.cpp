@@ -27,29 +27,12 @@
 namespace vtm::ground {
 namespace {
 
-struct CommandRun {
-    int exit_code = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using test::CommandRun;
+using test::runCommand;
+using test::slurp;
 
 CommandRun runTool(const test::TempDir& dir, const char* exe, const std::string& args) {
-    const std::string out = dir.file("stdout.txt");
-    const std::string err = dir.file("stderr.txt");
-    const std::string cmd = std::string("'") + exe + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    CommandRun r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+    return runCommand(dir, exe, args);
 }
 
 double angleDeg(const Mat3& a, const Mat3& b) {
