@@ -198,9 +198,15 @@ TEST(OrbitalFixConfigTest, BadMapsAndConfigsAreNamed) {
     b = c;
     b.registration.levels = 0;
     EXPECT_NE(cfgReason(b).find("levels"), std::string::npos);
+}
 
-    // In the mapper: the fix needs refine_pose; its memory is planned only when enabled;
-    // setOrbitalMap before init and without the fix enabled is refused.
+#if !defined(VTM_TEST_UNDER_EMULATOR)
+// In the mapper (host only: it needs the world): the fix needs refine_pose; its memory is
+// planned only when enabled; setOrbitalMap before init and without the fix is refused.
+TEST_F(OrbitalFixTest, TheMapperPlansTheFixAndRefusesAMapBeforeInitOrWhenDisabled) {
+    static std::uint8_t pixels[64 * 64];
+    OrbitalMap good;
+    good.image8 = ImageView<const std::uint8_t>(pixels, 64, 64);
     ASSERT_TRUE(world().ok);
     DescentMapperConfig m = orbital_test::orbitalConfig(world(), true);
     DescentMapperConfig off = orbital_test::orbitalConfig(world(), false);
@@ -240,12 +246,13 @@ TEST(OrbitalFixConfigTest, BadMapsAndConfigsAreNamed) {
         auto mapper = std::make_unique<DescentMapper>();
         ASSERT_TRUE(mapper->init(m, arena, camera, odometry, clock, events).isOk());
         EXPECT_LE(mapper->memoryBytes(), DescentMapper::workspaceBytes(m));
-        bad = good;
+        OrbitalMap bad = good;
         bad.geo.cell_m = -1.0;
         EXPECT_NE(std::string(mapper->setOrbitalMap(bad).reason()).find("geo.cell_m"), std::string::npos);
         EXPECT_TRUE(mapper->setOrbitalMap(good).isOk());
     }
 }
+#endif  // !VTM_TEST_UNDER_EMULATOR
 
 }  // namespace
 }  // namespace vtm::app
