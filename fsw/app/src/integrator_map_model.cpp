@@ -51,8 +51,8 @@ Window windowOf(const ModelInput& model, const terrain::GridConfig& grid, double
 Status TerrainIntegrator::drawMapModel(const ModelInput& model, std::int32_t& count) noexcept {
     count = 0;
     VTM_RETURN_IF_ERROR(grid_.extract(tree_));
-    const terrain::HeightMap& map = grid_.map(0);
-    const terrain::GridConfig& grid = map.grid();
+    const terrain::HeightMap& reg_map = grid_.map(0);
+    const terrain::GridConfig& grid = reg_map.grid();
     const Window w = windowOf(model, grid, config_.window_margin_m);
     const auto level = static_cast<std::uint32_t>(config_.registration_level);
     // Pass 0 counts the candidates, pass 1 takes every stride-th. Bound: 2 x the window's
@@ -75,10 +75,10 @@ Status TerrainIntegrator::drawMapModel(const ModelInput& model, std::int32_t& co
                 if (pass == 1 && seen % stride == 0 && count < config_.icp.max_model_points) {
                     // Own data: the bin's centre; coarse: the coarse cell's centre, the bin's
                     // north-west corner.
-                    const double north = own ? map.centreNorthM(row) : grid.north_edge_m - static_cast<double>(row) * grid.cell_m;
-                    const double east = own ? map.centreEastM(col) : grid.west_edge_m + static_cast<double>(col) * grid.cell_m;
+                    const double north = own ? reg_map.centreNorthM(row) : grid.north_edge_m - static_cast<double>(row) * grid.cell_m;
+                    const double east = own ? reg_map.centreEastM(col) : grid.west_edge_m + static_cast<double>(col) * grid.cell_m;
                     map_model_[static_cast<std::size_t>(count)] =
-                        Vec3(north, east, -static_cast<double>(map.elevation(col, row)));
+                        Vec3(north, east, -static_cast<double>(reg_map.elevation(col, row)));
                     ++count;
                 }
                 ++seen;
