@@ -19,6 +19,7 @@
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/sim_odometry.hpp"
 #include "no_heap_guard.hpp"
+#include "scenario_text.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "vtm/app/descent_mapper.hpp"
@@ -46,11 +47,9 @@ struct World {
     bool ok = false;
 };
 
+// A failed edit is recorded and the world built from the text as it is (as before).
 void setValue(std::string& text, const std::string& key, const std::string& value) {
-    const std::size_t at = text.find("\n" + key + " ");
-    ASSERT_NE(at, std::string::npos) << key;
-    const std::size_t end = text.find('\n', at + 1);
-    text.replace(at + 1, end - at - 1, key + " " + value);
+    EXPECT_TRUE(test::setScenarioValue(text, key, value)) << key;
 }
 
 World& world() {

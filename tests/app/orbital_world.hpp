@@ -20,6 +20,7 @@
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/sim_odometry.hpp"
 #include "no_heap_guard.hpp"
+#include "scenario_text.hpp"
 #include "sim/orbital.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
@@ -52,18 +53,6 @@ struct World {
     bool ok = false;
 };
 
-// Replaces `key`'s value inside [section] of a scenario text.
-inline bool setInSection(std::string& text, const std::string& section, const std::string& key, const std::string& value) {
-    const std::size_t s = text.find("[" + section + "]");
-    if (s == std::string::npos) return false;
-    const std::size_t at = text.find("\n" + key + " ", s);
-    const std::size_t next = text.find("\n[", s + 1);
-    if (at == std::string::npos || (next != std::string::npos && at > next)) return false;
-    const std::size_t end = text.find('\n', at + 1);
-    text.replace(at + 1, end - at - 1, key + " " + value);
-    return true;
-}
-
 inline std::string num(double v) {
     char b[64];
     std::snprintf(b, sizeof b, "%.6g", v);
@@ -78,17 +67,17 @@ inline std::unique_ptr<World> buildWorld(const WorldSpec& spec) {
     std::string t = s.str();
     const std::size_t seed_at = t.find("\nseed ");
     t.replace(seed_at + 1, t.find('\n', seed_at + 1) - seed_at - 1, "seed " + std::to_string(spec.seed));
-    bool ok = setInSection(t, "camera", "width_px", std::to_string(spec.size_px)) &&
-              setInSection(t, "camera", "height_px", std::to_string(spec.size_px)) &&
-              setInSection(t, "terrain", "samples_log2", std::to_string(spec.samples_log2)) &&
-              setInSection(t, "lighting", "sun_azimuth_deg", num(spec.sun_azimuth_deg)) &&
-              setInSection(t, "lighting", "sun_elevation_deg", num(spec.sun_elevation_deg)) &&
-              setInSection(t, "orbital", "sun_azimuth_deg", num(spec.orbital_sun_azimuth_deg)) &&
-              setInSection(t, "orbital", "sun_elevation_deg", num(spec.orbital_sun_elevation_deg)) &&
-              setInSection(t, "orbital", "modality", spec.modality) &&
-              setInSection(t, "motion", "start_altitude_m", num(spec.start_altitude_m)) &&
-              setInSection(t, "motion", "end_altitude_m", num(spec.end_altitude_m)) &&
-              setInSection(t, "motion", "frames", std::to_string(spec.frames));
+    bool ok = test::setScenarioValueInSection(t, "camera", "width_px", std::to_string(spec.size_px)) &&
+              test::setScenarioValueInSection(t, "camera", "height_px", std::to_string(spec.size_px)) &&
+              test::setScenarioValueInSection(t, "terrain", "samples_log2", std::to_string(spec.samples_log2)) &&
+              test::setScenarioValueInSection(t, "lighting", "sun_azimuth_deg", num(spec.sun_azimuth_deg)) &&
+              test::setScenarioValueInSection(t, "lighting", "sun_elevation_deg", num(spec.sun_elevation_deg)) &&
+              test::setScenarioValueInSection(t, "orbital", "sun_azimuth_deg", num(spec.orbital_sun_azimuth_deg)) &&
+              test::setScenarioValueInSection(t, "orbital", "sun_elevation_deg", num(spec.orbital_sun_elevation_deg)) &&
+              test::setScenarioValueInSection(t, "orbital", "modality", spec.modality) &&
+              test::setScenarioValueInSection(t, "motion", "start_altitude_m", num(spec.start_altitude_m)) &&
+              test::setScenarioValueInSection(t, "motion", "end_altitude_m", num(spec.end_altitude_m)) &&
+              test::setScenarioValueInSection(t, "motion", "frames", std::to_string(spec.frames));
     if (!ok || !sim::parseScenario(t, w->scenario).isOk()) {
         return w;
     }

@@ -12,6 +12,7 @@
 #include "hal/event_log.hpp"
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/sim_odometry.hpp"
+#include "scenario_text.hpp"
 #include "sim/render.hpp"
 #include "vtm/app/descent_mapper.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
@@ -21,16 +22,10 @@
 namespace vtm::integrate_eval {
 namespace {
 
+using test::setScenarioValue;
+
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-bool setValue(std::string& text, const std::string& key, const std::string& value) {
-    const std::size_t at = text.find("\n" + key + " ");
-    if (at == std::string::npos) return false;
-    const std::size_t end = text.find('\n', at + 1);
-    text.replace(at + 1, end - at - 1, key + " " + value);
-    return true;
 }
 
 // The descent over the traverse's terrain: the traverse file up to its [camera] section
@@ -40,8 +35,8 @@ bool setValue(std::string& text, const std::string& key, const std::string& valu
 // with their true poses; its navigation error is applied afterwards as a rigid motion.
 std::string descentText(const std::string& traverse_text, std::int32_t px) {
     std::string head = traverse_text.substr(0, traverse_text.find("[camera]"));
-    setValue(head, "kind", "descent");
-    setValue(head, "name", "traverse_descent");
+    setScenarioValue(head, "kind", "descent");
+    setScenarioValue(head, "name", "traverse_descent");
     const std::string side = std::to_string(px);
     return head + "[camera]\nmodel pinhole\nwidth_px " + side + "\nheight_px " + side +
            "\nhfov_deg 45\nbit_depth 12\nmount_position_m 0 0 0\nmount_tilt_deg -90\n"
@@ -204,7 +199,7 @@ std::unique_ptr<World> buildWorld(const std::string& scenario_dir, const Sizes& 
     std::stringstream s;
     s << in.rdbuf();
     std::string text = s.str();
-    if (!setValue(text, "samples_log2", std::to_string(sizes.samples_log2))) {
+    if (!setScenarioValue(text, "samples_log2", std::to_string(sizes.samples_log2))) {
         w->error = "traverse.scn: no samples_log2";
         return w;
     }
