@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "vtm/core/math.hpp"
+#include "vtm/core/rotation.hpp"
 #include "vtm/icp/icp.hpp"
 #include "vtm/icp/symmetric_eigen.hpp"
 
@@ -28,24 +29,6 @@ namespace {
 
 Vec3 toVec(const TreePoint& p) noexcept {
     return Vec3(static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(p.z));
-}
-
-Mat3 skew(const Vec3& v) noexcept {
-    Mat3 s;
-    s << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-    return s;
-}
-
-// exp([w]x) by Rodrigues with the project's sin/cos; the series below 1e-8 rad.
-Mat3 rotationOf(const Vec3& w) noexcept {
-    const double theta = std::sqrt(w.squaredNorm());
-    const Mat3 k = skew(w);
-    if (theta < 1e-8) {
-        return Mat3::Identity() + k + 0.5 * (k * k);
-    }
-    const double a = math::sin(theta) / theta;
-    const double b = (1.0 - math::cos(theta)) / (theta * theta);
-    return Mat3::Identity() + a * k + b * (k * k);
 }
 
 Mat3 orthonormalised(const Mat3& r) noexcept {
@@ -212,7 +195,7 @@ Status PointToPlaneIcp::registerData(Span<const Vec3> data_m, const RigidPose& m
             return fit;
         }
         const Vec6 x = lin.A.ldlt().solve(lin.b);
-        const Mat3 dR = rotationOf(x.head<3>());
+        const Mat3 dR = rotationExp(x.head<3>());
         const Vec3 c = lin.centroid_m;
         pose.t_m = dR * (pose.t_m - c) + c + x.tail<3>();
         pose.R = orthonormalised(dR * pose.R);

@@ -32,12 +32,6 @@ constexpr int kRangeSteps = 8;
 // distance): truncation error ~ h^2, rounding ~ eps / h; 1e-6 balances both near 1e-12.
 constexpr double kDiffStep = 1e-6;
 
-Mat3 skew(const Vec3& w) noexcept {
-    Mat3 k;
-    k << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
-    return k;
-}
-
 bool finite2(const Vec2& v) noexcept { return math::isFinite(v.x()) && math::isFinite(v.y()); }
 
 // Tolerance of the input rotation's orthonormality (max |R^T R - I| element).

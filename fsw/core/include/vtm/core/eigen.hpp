@@ -23,5 +23,7 @@ using Vec4 = Eigen::Matrix<double, 4, 1>;
 using Mat2 = Eigen::Matrix<double, 2, 2>;
 using Mat3 = Eigen::Matrix<double, 3, 3>;
 using Mat4 = Eigen::Matrix<double, 4, 4>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Quat = Eigen::Quaternion<double>;
 }  // namespace vtm

@@ -43,9 +43,6 @@
 
 namespace vtm::icp {
 
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-
 constexpr std::int32_t kMaxModelPointsLimit = 1 << 20;  // max_model_points, at most
 constexpr std::int32_t kMaxDataPointsLimit = 1 << 18;   // max_data_points, at most
 

@@ -28,6 +28,7 @@
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/core/pose.hpp"
+#include "vtm/core/rotation.hpp"
 #include "vtm/core/span.hpp"
 #include "vtm/core/status.hpp"
 
@@ -179,16 +180,11 @@ private:
 // b2 = u x b1. (b1, b2, u) is right-handed and orthonormal.
 void directionTangentBasis(const Vec3& u, Vec3& b1, Vec3& b2) noexcept;
 
-// Exp of a rotation vector (Rodrigues, vtm::math::sin/cos; first-order series below
-// 1e-8 rad).
-[[nodiscard]] Mat3 rotationExp(const Vec3& omega_rad) noexcept;
+// The rotation helpers live in vtm/core/rotation.hpp; named here for existing callers.
+using ::vtm::rotationAngleRad;
+using ::vtm::rotationExp;
+using ::vtm::rotationLog;
 
-// Angle of the rotation a^T b (the rotation taking a to b), radians in [0, pi],
-// by atan2 of its sine and cosine parts (accurate at small angles).
-[[nodiscard]] double rotationAngleRad(const Mat3& a, const Mat3& b) noexcept;
-// Rotation vector (axis times angle, radians) of a rotation: the inverse of rotationExp
-// for angles below pi.
-[[nodiscard]] Vec3 rotationLog(const Mat3& r) noexcept;
 // Angle between two translation directions, radians in [0, pi]: atan2(|a x b|, a.b).
 // NaN if either vector is zero or not finite.
 [[nodiscard]] double directionAngleRad(const Vec3& a, const Vec3& b) noexcept;
