@@ -315,6 +315,12 @@ struct PairCase {
     double side;
 };
 
+// Printed by name, not as raw bytes (gtest's fallback would read the struct's padding).
+void PrintTo(const PairCase& pc, std::ostream* os) {
+    *os << "kind " << static_cast<int>(pc.kind) << ", baseline " << pc.baseline_m << " m, convergence "
+        << pc.convergence_deg << " deg, side " << pc.side;
+}
+
 class VergedPair : public ::testing::TestWithParam<PairCase> {};
 
 TEST_P(VergedPair, TrueMatchesShareRowsAndDisparityRange) {
