@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -112,6 +113,7 @@ struct PairRun {
     std::int32_t cv_inliers = 0;
     refine::Result result;
     std::string failure;
+    int step = 1;  // 1: neighbouring views, 2: second neighbours
     std::vector<Vec2> sift_a, sift_b;  // OpenCV's matches, for the rows after rectification
     RowStats rows;                     // of those matches, rectified with the refined pose
     bool rectified = false;
@@ -120,6 +122,7 @@ struct PairRun {
 void runOurs(const View& a, const View& b, int k, PairRun& run) {
     refine::Config rc;
     rc.match_margin_px = 60.0;  // 2 deg at f 920 px: 32 px, and the sideways move
+    rc.max_rotation_sigma_deg = refine::kGeneralSceneMaxRotationSigmaDeg;  // as `vtm refine`
     static Workspace rw(refine::PairRefiner::workspaceBytes(rc));
     static refine::PairRefiner refiner;
     static const bool ready = refiner.init(rc, rw.arena).isOk();
@@ -139,6 +142,12 @@ void runOurs(const View& a, const View& b, int k, PairRun& run) {
     const Status st = refiner.refine(rq, run.result);
     if (!st.isOk()) {
         run.failure = st.reason();
+        if (st.detail() != 0 && std::strstr(st.reason(), "too uncertain") != nullptr) {
+            // The certainty gate: what the refusal kept from being published.
+            const Errors held = errorsOf(run.result.motion.R_b_from_a, run.result.motion.t_b_from_a_m, truth);
+            run.failure += " (1-sigma " + std::to_string(st.detail()) + " mdeg; it was " +
+                           std::to_string(held.rotation_deg) + " / " + std::to_string(held.direction_deg) + " deg off)";
+        }
         return;
     }
     run.ours = errorsOf(run.result.refined.b_from_a.R, run.result.refined.b_from_a.t_m, truth);
@@ -212,6 +221,7 @@ TEST(StrechaPairs, RefinedFromASpoiledPriorBesideOpenCvEssentialMatrix) {
             if (step == 2 && !s.second_in_ci && !full()) continue;
             for (int i = 0; i + step < s.views; ++i) {
                 PairRun run;
+                run.step = step;
                 run.name = std::string(s.name) + " " + std::to_string(i) + "-" + std::to_string(i + step);
                 // The prior's spoiling axis depends on the pair alone (not on which pairs ran before).
                 const int k = 100 * static_cast<int>(si) + 10 * step + i;
@@ -255,12 +265,22 @@ TEST(StrechaPairs, RefinedFromASpoiledPriorBesideOpenCvEssentialMatrix) {
                 runs.size(), median(our_rot), median(our_dir), our_worst, failures, median(cv_rot), median(cv_dir),
                 cv_worst, ours_better);
     // Issue 21 item 5's targets: median rotation <= 0.05 deg and direction <= 0.5 deg, no
-    // pair worse than 1 deg. The medians are met; "no pair worse than 1 deg" is not: a pair
-    // refined on few inliers (entry-p10 5-6: 17) can be degrees off with kOk, and a
-    // wide-angle pair can be refused for too few matches (docs/wide-baseline-evaluation.md
-    // "Real wide-baseline pairs"). Held here: the medians, at most 2 refusals, and every
-    // pair refined on >= 50 inliers within 1 deg.
-    EXPECT_LE(failures, 2);
+    // pair worse than 1 deg. A pair the refiner cannot refine (too few matches, or its own
+    // rotation 1-sigma above the general scene's gate) is refused with its reason, not
+    // published wrong: every pair refined within 1 deg, and at most one neighbouring pair in
+    // five refused (second neighbours, 20-50 deg apart, are refused more often: too few
+    // template matches; docs/wide-baseline-evaluation.md).
+    int neighbours = 0, neighbours_refused = 0;
+    for (const PairRun& r : runs) {
+        neighbours += r.step == 1 ? 1 : 0;
+        neighbours_refused += r.step == 1 && !r.ours.ok ? 1 : 0;
+    }
+    EXPECT_LE(5 * neighbours_refused, neighbours);
+    for (const PairRun& r : runs) {
+        if (r.ours.ok) {
+            EXPECT_LE(std::max(r.ours.rotation_deg, r.ours.direction_deg), 1.0) << r.name;
+        }
+    }
     EXPECT_LE(median(our_rot), 0.05);
     EXPECT_LE(median(our_dir), 0.5);
     // Rows after rectification with the refined pose (item 5: <= 0.3 px): OpenCV's matches,
@@ -269,7 +289,6 @@ TEST(StrechaPairs, RefinedFromASpoiledPriorBesideOpenCvEssentialMatrix) {
     int rectified = 0;
     for (const PairRun& r : runs) {
         if (r.ours.ok && r.inliers >= 50) {
-            EXPECT_LE(std::max(r.ours.rotation_deg, r.ours.direction_deg), 1.0) << r.name;
             if (r.rectified) {
                 ++rectified;
                 EXPECT_LE(r.rows.median_abs, 0.3) << r.name;

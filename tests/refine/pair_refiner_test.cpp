@@ -281,6 +281,11 @@ TEST(PairRefiner, InvalidConfigsAreNamed) {
     c.visibility_margin_px = std::nan("");
     expectNamed(c, "refine.visibility_margin_px");
     c = good;
+    c.max_rotation_sigma_deg = 0.001;  // 0 (off) or 0.01..10
+    expectNamed(c, "refine.max_rotation_sigma_deg");
+    c.max_rotation_sigma_deg = std::nan("");
+    expectNamed(c, "refine.max_rotation_sigma_deg");
+    c = good;
     c.motion.max_iterations = 0;
     expectNamed(c, "max_iterations");
     c = good;

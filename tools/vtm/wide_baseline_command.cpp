@@ -127,6 +127,9 @@ std::string refinePair(const WideBaselineOptions& o, const PairInputs& in, Refin
     c.max_width = std::max(in.image1.width, in.image2.width);
     c.max_height = std::max(in.image1.height, in.image2.height);
     c.match_margin_px = o.margin_px;
+    c.max_rotation_sigma_deg = o.max_rotation_sigma_deg >= 0.0 ? o.max_rotation_sigma_deg
+                               : o.mast_height_m > 0.0     ? 0.0
+                                                           : refine::kGeneralSceneMaxRotationSigmaDeg;
     run.pool.assign(refine::PairRefiner::workspaceBytes(c), std::byte{0});
     run.arena = std::make_unique<Arena>(run.pool.data(), run.pool.size());
     Status s = run.refiner->init(c, *run.arena);
@@ -249,6 +252,9 @@ CLI::App* addRefineCommand(CLI::App& app, WideBaselineOptions& o) {
                     "camera 1's height above level ground, m: ground scene, features only where camera 2 sees and "
                     "templates warped for the ground (default 1.9; 0: general scene, features everywhere, "
                     "fronto-parallel templates)");
+    cmd->add_option("--max-rotation-sigma", o.max_rotation_sigma_deg,
+                    "refuse a refinement whose rotation 1-sigma exceeds this, deg (default: 0.25 in the general "
+                    "scene, off in the ground scene; 0: off)");
     cmd->add_option("--out", o.out, "refined poses (vtm-camera-poses 1: frame 0 = camera 1, frame 1 = camera 2)")
         ->required();
     cmd->add_option("--matches", o.matches, "write the matches (x1 y1 x2 y2 ncc inlier)");
@@ -263,6 +269,11 @@ int runRefine(const WideBaselineOptions& o) {
     if (!(o.mast_height_m >= 0.0) || !std::isfinite(o.mast_height_m) || o.mast_height_m > 100.0) {
         return fail("refine", kExitUsageError,
                     "--mast-height " + std::to_string(o.mast_height_m) + ": must be in [0, 100] m");
+    }
+    if (!std::isfinite(o.max_rotation_sigma_deg) || o.max_rotation_sigma_deg > 10.0 ||
+        (o.max_rotation_sigma_deg > 0.0 && o.max_rotation_sigma_deg < 0.01)) {
+        return fail("refine", kExitUsageError,
+                    "--max-rotation-sigma " + std::to_string(o.max_rotation_sigma_deg) + ": must be 0 (off) or 0.01..10 deg");
     }
     double lo = 0.0;
     double hi = 0.0;

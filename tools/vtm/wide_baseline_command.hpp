@@ -22,6 +22,9 @@ struct WideBaselineOptions {
     std::string range = "1:1000";  // MIN:MAX metres along camera 1's rays (refine: search; rectify: d range)
     double margin_px = 60.0;       // refine: odometry uncertainty around the predicted segment
     double mast_height_m = 1.9;    // refine: camera 1 above the ground, for the visibility mask (0: none)
+    // refine: the certainty gate, degrees (refine::Config::max_rotation_sigma_deg); < 0:
+    // the scene's default (general scene 0.25, ground scene off), 0: off.
+    double max_rotation_sigma_deg = -1.0;
     std::string out;               // refine: refined poses (vtm-camera-poses 1)
     std::string matches;           // refine: optional match list
     std::string report;            // refine: optional Markdown report (also printed)

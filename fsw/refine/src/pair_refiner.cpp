@@ -97,6 +97,9 @@ Status Config::validate() const noexcept {
     if (!inRange(visibility_margin_px, 0.0, 1000.0)) {
         return invalid("refine.visibility_margin_px: must be 0..1000");
     }
+    if (!(max_rotation_sigma_deg == 0.0 || inRange(max_rotation_sigma_deg, 0.01, 10.0))) {
+        return invalid("refine.max_rotation_sigma_deg: must be 0 (off) or 0.01..10");
+    }
     return Status::ok();
 }
 
@@ -216,6 +219,13 @@ Status PairRefiner::refineMotion(const Request& request, Result& result) noexcep
     result.rotation_change_deg = kDegPerRad * motion::rotationAngleRad(m.R_b_from_a, request.prior.b_from_a.R);
     result.direction_change_deg =
         kDegPerRad * motion::directionAngleRad(m.t_b_from_a_m, request.prior.b_from_a.t_m);
+    const double sigma_deg = kDegPerRad * m.rotation_sigma_rad;
+    if (config_.max_rotation_sigma_deg > 0.0 && !(sigma_deg <= config_.max_rotation_sigma_deg)) {
+        return Status(StatusCode::kDegenerate,
+                      "refine: the refined rotation is too uncertain (1-sigma above max_rotation_sigma_deg; "
+                      "detail: millidegrees)",
+                      static_cast<std::int64_t>(sigma_deg * 1000.0 + 0.5));
+    }
     return Status::ok();
 }
 

@@ -55,6 +55,12 @@ struct Config {
     // Ground scene: a pixel of A is a feature candidate only when its predicted point lies
     // at least this far inside B's image, pixels, 0..1000.
     double visibility_margin_px = 16.0;
+    // The certainty gate: a refinement whose own rotation 1-sigma (MotionResult::
+    // rotation_sigma_rad) exceeds this is refused, degrees, 0 (off) or 0.01..10. Off by
+    // default: the rover executive gates on the ratio to the odometry's sigma instead
+    // (its far-terrain pairs legitimately reach 0.26 deg). For a general scene without a
+    // prior covariance, kGeneralSceneMaxRotationSigmaDeg (docs/refine.md "Certainty gate").
+    double max_rotation_sigma_deg = 0.0;
     // The detector's and the matcher's configurations with the capacity above.
     [[nodiscard]] features::DetectorConfig detectorConfig() const noexcept;
     [[nodiscard]] features::MatcherConfig matcherConfig() const noexcept;
@@ -62,6 +68,11 @@ struct Config {
     // names them).
     [[nodiscard]] Status validate() const noexcept;
 };
+
+// The gate `vtm refine` and the real-pair evaluations use for a general scene: a refined
+// rotation 1 deg wrong would be a 4-sigma error. On the Strecha pairs the refinements that
+// converged wrong (8-11 deg) report 0.50-1.41 deg, the right ones 0.011-0.055 deg.
+constexpr double kGeneralSceneMaxRotationSigmaDeg = 0.25;
 
 enum class Scene : std::uint8_t {
     // The cameras look at the ground they stand over (rover, descent): the visibility
@@ -136,7 +147,10 @@ public:
     //                    scene's up_a or camera_height_m, an unknown scene
     //  kSizeMismatch     an image above the capacity, or not its model's size
     //  kDegenerate       the prior pose says B sees none of A (ground scene); fewer than
-    //                    motion.min_inliers matches or inliers (the refiner's reason)
+    //                    motion.min_inliers matches or inliers (the refiner's reason); the
+    //                    refined rotation's 1-sigma above max_rotation_sigma_deg ("refine:
+    //                    the refined rotation is too uncertain ...", detail: its 1-sigma in
+    //                    millidegrees; result.motion and the matches are filled)
     //  or the detector's / matcher's / refiner's Status.
     [[nodiscard]] Status refine(const Request& request, Result& result) noexcept;
 
