@@ -251,6 +251,7 @@ TEST_F(WideBaselineCli, BadInputsExitNonZeroWithOneLineNamingTheInput) {
     };
     const Case cases[] = {
         {"refine " + pair + cam + poses + "--range 5:1 --out x.txt", 2, "--range '5:1'"},
+        {"refine " + pair + cam + poses + "--max-rotation-sigma 0.001 --out x.txt", 2, "--max-rotation-sigma"},
         {"refine " + pair + cam + "--pose1 '" + sim("camera_poses.txt") + ":9' --pose2 '" + sim("camera_poses.txt") +
              ":1' --out x.txt",
          1, "no pose with frame index 9"},
