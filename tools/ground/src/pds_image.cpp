@@ -98,6 +98,13 @@ std::string decodeSamples(const std::vector<unsigned char>& bytes, const PdsImag
                           Grey16Image& out) {
     SampleFormat format;
     (void)sampleFormat(info.sample_type, info.sample_bits, format);  // checked by pdsImageInfo
+    const std::uint64_t size = static_cast<std::uint64_t>(info.lines) * static_cast<std::uint64_t>(info.line_samples) *
+                               static_cast<std::uint64_t>(format.bytes);
+    if (info.image_offset > bytes.size() || size > bytes.size() - info.image_offset) {
+        return name + ": truncated PDS image: the " + std::to_string(info.line_samples) + " x " +
+               std::to_string(info.lines) + " samples need bytes " + std::to_string(info.image_offset) + ".." +
+               std::to_string(info.image_offset + size - 1U) + ", the file has " + std::to_string(bytes.size());
+    }
     out = Grey16Image(info.line_samples, info.lines);
     const unsigned char* p = bytes.data() + info.image_offset;
     for (std::int32_t y = 0; y < info.lines; ++y) {
@@ -121,27 +128,20 @@ bool isSupportedModel(const std::string& type) { return type == "CAHV" || type =
 
 }  // namespace
 
-Result<PdsImageInfo> pdsImageInfo(const PdsLabel& label, std::size_t file_bytes, const std::string& name) {
+Result<PdsImageInfo> pdsImageInfo(const PdsLabel& label, const std::string& name) {
     const PdsFields f{label, name};
     PdsImageInfo info;
     std::string e = imageOffset(f, info.record_bytes, info.image_offset);
     if (e.empty()) e = imageObject(f, info);
     if (!e.empty()) return Result<PdsImageInfo>::failure(e);
-    const std::uint64_t bytes_per_sample = info.sample_bits == 8 ? 1U : 2U;
-    const std::uint64_t size = static_cast<std::uint64_t>(info.lines) * static_cast<std::uint64_t>(info.line_samples) *
-                               bytes_per_sample;
-    if (info.image_offset > file_bytes || size > file_bytes - info.image_offset) {
-        return Result<PdsImageInfo>::failure(
-            name + ": truncated PDS image: the " + std::to_string(info.line_samples) + " x " +
-            std::to_string(info.lines) + " samples need bytes " + std::to_string(info.image_offset) + ".." +
-            std::to_string(info.image_offset + size - 1U) + ", the file has " + std::to_string(file_bytes));
-    }
     info.instrument_id = textOf(label, "", "INSTRUMENT_ID");
     info.start_time = textOf(label, "", "START_TIME");
     info.product_id = textOf(label, "", "PRODUCT_ID");
     const std::string model_group = detail::pdsCameraModelGroup(label);
-    info.model_type = textOf(label, model_group, "MODEL_TYPE");
-    info.model_frame = textOf(label, model_group, "REFERENCE_COORD_SYSTEM_NAME");
+    if (!model_group.empty()) {
+        info.model_type = textOf(label, model_group, "MODEL_TYPE");
+        info.model_frame = textOf(label, model_group, "REFERENCE_COORD_SYSTEM_NAME");
+    }
     info.rover_pointing = pointing(label, "ROVER_DERIVED_GEOMETRY_PARMS");
     info.site_pointing = pointing(label, "SITE_DERIVED_GEOMETRY_PARMS");
     return Result<PdsImageInfo>::success(std::move(info));
@@ -151,7 +151,7 @@ Result<PdsImage> decodePdsImage(const std::vector<unsigned char>& bytes, const s
                                 const PdsReadOptions& options) {
     const Result<PdsLabel> label = parsePdsLabel(bytes, name);
     if (!label.ok) return Result<PdsImage>::failure(label.error);
-    Result<PdsImageInfo> info = pdsImageInfo(label.value, bytes.size(), name);
+    Result<PdsImageInfo> info = pdsImageInfo(label.value, name);
     if (!info.ok) return Result<PdsImage>::failure(info.error);
     PdsImage image;
     image.info = std::move(info.value);

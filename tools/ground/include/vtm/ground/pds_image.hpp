@@ -92,8 +92,9 @@ Result<PdsImage> decodePdsImage(const std::vector<unsigned char>& bytes, const s
                                 const PdsReadOptions& options = PdsReadOptions{});
 Result<PdsImage> readPdsImage(const std::string& path, const PdsReadOptions& options = PdsReadOptions{});
 
-// The label's parts on their own (decodePdsImage uses them).
-Result<PdsImageInfo> pdsImageInfo(const PdsLabel& label, std::size_t file_bytes, const std::string& name);
+// The label's parts on their own (decodePdsImage uses them, and checks the camera model and
+// the pose before it checks that the file holds the samples).
+Result<PdsImageInfo> pdsImageInfo(const PdsLabel& label, const std::string& name);
 // kCahv/kCahvor from the label's camera model group; validated.
 Result<CameraModel> pdsCameraModel(const PdsLabel& label, std::int32_t width, std::int32_t height,
                                    const std::string& name);
