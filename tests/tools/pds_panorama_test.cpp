@@ -99,7 +99,7 @@ double shiftedNcc(const GreyImage& one, const GreyImage& two, int dx, int dy, in
 // slid over frame 1's by up to +-3 deg (0.1 deg per pixel). With the models and poses read
 // right the best correlation is where the geometry puts it: within 0.3 deg (the scene is
 // assumed 20 m away; the projection centres are a few cm apart). The whole mosaic is
-// written as PNG when VTM_PDS_MOSAIC names a path.
+// written as PNG (0.2 deg per pixel) when VTM_PDS_MOSAIC names a path.
 TEST(PdsPanorama, CylinderMosaicOfTheFiveFrames) {
     const std::vector<PdsImage> frames = loadNavcam();
     if (frames.empty()) GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";
@@ -128,7 +128,9 @@ TEST(PdsPanorama, CylinderMosaicOfTheFiveFrames) {
     EXPECT_GT(best, 0.6);
     const char* path = std::getenv("VTM_PDS_MOSAIC");
     if (path != nullptr && path[0] != '\0') {
-        const Outcome w = writePng(path, mosaic);
+        PdsMosaicConfig picture;
+        picture.step_deg = 0.2;  // docs/images/pds_navcam_mosaic.png: 1200 x 285
+        const Outcome w = writePng(path, pdsCylinderMosaic(frames, picture));
         EXPECT_TRUE(w.ok) << w.error;
     }
 }
