@@ -41,8 +41,10 @@ double quantile(std::vector<double> v, double q) {
 }
 
 // The overlapping pairs (frames 2 and 3 are 72 deg apart and share nothing). Every tie
-// must lie on the image of A's ray in B within the search margin; the pointing the labels
-// give leaves the ties a few pixels off their rays (the "before" figure, printed).
+// lies within the search margin of the image of A's ray in B; under the labels' pointing
+// the ties are a pixel or so off their rays (median < 1.5 px, 90 % < 3 px per pair: the
+// "before" figure of a pointing adjustment, printed). Ranges from 0.5 m: frames 4 and 5
+// look back over the rover's deck, about 1 m from the mast.
 TEST(PdsPanorama, TiePointsInTheNavcamOverlapsAndTheirResiduals) {
     const std::vector<PdsImage> frames = loadNavcam();
     if (frames.empty()) GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";
@@ -73,7 +75,8 @@ TEST(PdsPanorama, TiePointsInTheNavcamOverlapsAndTheirResiduals) {
                     quantile(epipolar, 0.5), quantile(epipolar, 0.9), quantile(epipolar, 1.0), quantile(sphere, 0.5),
                     quantile(sphere, 0.9));
         EXPECT_GE(r.value.ties.size(), 20U) << "frames " << pair[0] + 1 << "-" << pair[1] + 1;
-        EXPECT_LT(quantile(epipolar, 0.5), 2.0) << "frames " << pair[0] + 1 << "-" << pair[1] + 1;
+        EXPECT_LT(quantile(epipolar, 0.5), 1.5) << "frames " << pair[0] + 1 << "-" << pair[1] + 1;
+        EXPECT_LT(quantile(epipolar, 0.9), 3.0) << "frames " << pair[0] + 1 << "-" << pair[1] + 1;
     }
     std::printf("all pairs: %d ties, epipolar residual median %.2f px, 90%% %.2f px\n",
                 static_cast<int>(all_epipolar.size()), quantile(all_epipolar, 0.5), quantile(all_epipolar, 0.9));

@@ -25,7 +25,7 @@ namespace vtm::ground {
 
 struct PdsTieConfig {
     double camera_height_m = 1.5;    // Navcam above the ground, for the visibility prior
-    double range_min_m = 1.5;        // nearest terrain along a ray
+    double range_min_m = 0.5;        // nearest scene along a ray (the rover deck is ~1 m away)
     double range_max_m = 1000.0;     // farthest (the horizon)
     double margin_px = 30.0;         // pointing uncertainty around the predicted region
     double sphere_radius_m = 20.0;   // the far-scene prediction of sphere_px
