@@ -194,6 +194,8 @@ TEST(PdsImage, MalformedFilesAreRefusedNamingFieldAndReason) {
     contains(errorOfLabel(replaced(kLabel, "BANDS = 1", "BANDS = 3")), "BANDS in IMAGE must be an integer 1..1");
     contains(errorOfLabel(replaced(kLabel, "PDS_VERSION_ID = PDS3", "PDS_VERSION_ID = PDS4")), "not a PDS3 label");
     contains(errorOfLabel(replaced(kLabel, "END\r\n", "ENDS = 1\r\n")), "is not text (no END line before it)");
+    contains(errorOfLabel(replaced(kLabel, "(0.5,0.0,-1.25)", "(0.5,0.0,-1.25")),
+             "line 43: byte ");  // the list's line, not the line where the bytes stop being text
     contains(errorOfLabel(replaced(kLabel, "(0.5,0.0,-1.25)", "(0.5,0.0,-1.25")), "is not text (list not closed before it)");
     contains(errorOf(test::textBytes(std::string(kLabel).substr(0, std::string(kLabel).find("GROUP = ROVER")))), "PDS label has no END line");
     contains(errorOfLabel(replaced(kLabel, "(0.5,0.0,-1.25)", "(0.5,zero,-1.25)")),

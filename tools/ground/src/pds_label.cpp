@@ -32,7 +32,7 @@ private:
         return name_ + ": PDS label line " + std::to_string(line_) + ": " + what;
     }
     std::string notText(const std::string& context) const {
-        return error("byte " + std::to_string(pos_) + " (" + std::to_string(b_[pos_]) + ") is not text (" + context + ")");
+        return "byte " + std::to_string(pos_) + " (" + std::to_string(b_[pos_]) + ") is not text (" + context + ")";
     }
     std::string skipSpace(bool cross_lines);
     std::string skipComment();
@@ -57,7 +57,7 @@ private:
 std::string LabelParser::skipSpace(bool cross_lines) {
     while (pos_ < n_) {
         const unsigned char c = b_[pos_];
-        if (!isText(c)) return notText("no END line before it");
+        if (!isText(c)) return error(notText("no END line before it"));
         if (c == '/' && pos_ + 1U < n_ && b_[pos_ + 1U] == '*') {
             const std::string e = skipComment();
             if (!e.empty()) return e;
@@ -99,7 +99,10 @@ std::string LabelParser::readQuoted(std::string& out) {
     out = "\"";
     for (++pos_; pos_ < n_; ++pos_) {
         const unsigned char c = b_[pos_];
-        if (!isText(c)) return notText("string not closed before it");
+        if (!isText(c)) {
+            line_ = start_line;
+            return error(notText("string not closed before it"));
+        }
         if (c == '"') {
             ++pos_;
             out += '"';
@@ -119,7 +122,10 @@ std::string LabelParser::readList(std::string& out) {
     std::size_t depth = 0;
     while (pos_ < n_) {
         const unsigned char c = b_[pos_];
-        if (!isText(c)) return notText("list not closed before it");
+        if (!isText(c)) {
+            line_ = start_line;
+            return error(notText("list not closed before it"));
+        }
         if (c == '"') {
             std::string s;
             const std::string e = readQuoted(s);
@@ -145,7 +151,7 @@ std::string LabelParser::readList(std::string& out) {
 std::string LabelParser::readBare(std::string& out) {
     const std::size_t start = pos_;
     while (pos_ < n_ && !isLineEnd(b_[pos_])) {
-        if (!isText(b_[pos_])) return notText("no END line before it");
+        if (!isText(b_[pos_])) return error(notText("no END line before it"));
         if (b_[pos_] == '/' && pos_ + 1U < n_ && b_[pos_ + 1U] == '*') break;
         ++pos_;
     }
