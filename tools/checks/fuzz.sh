@@ -6,6 +6,7 @@
 #   fuzz_scenario       sim::parseScenario (.scn files; seeds: sim/scenarios/*.scn)
 #   fuzz_pose_files     tools/ground's vtm-camera-poses / vtm-poses readers and pose specs
 #   fuzz_ply_reader     tools/ground's PLY point reader (ascii, binary little endian)
+#   fuzz_pds_reader     tools/ground's PDS3 image reader (seeds: the MER labels, tests/fuzz/seeds/pds)
 # Configures build/fuzz from tests/fuzz/CMakeLists.txt, writes a seed corpus per target
 # (valid inputs; Python's zlib.crc32 computes the link CRCs independently of our code),
 # runs each target for FUZZ_SECONDS (default 30; FUZZ_JOBS of them at once, default the
@@ -29,11 +30,12 @@ work=$build/runs
 
 cmake -S "$root/tests/fuzz" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ >/dev/null
 cmake --build "$build" --target fuzz_link_decoder fuzz_file_readers fuzz_camera_model fuzz_scenario \
-    fuzz_pose_files fuzz_ply_reader >/dev/null
+    fuzz_pose_files fuzz_ply_reader fuzz_pds_reader >/dev/null
 
 rm -rf "$work"
-mkdir -p "$work"/{link,file,cmod,scn,poses,ply}/{corpus,artifacts}
+mkdir -p "$work"/{link,file,cmod,scn,poses,ply,pds}/{corpus,artifacts}
 cp "$root"/sim/scenarios/*.scn "$work/scn/corpus/"
+cp "$root"/tests/fuzz/seeds/pds/* "$work/pds/corpus/"
 python3 - "$work" <<'PY'
 import struct, sys, zlib
 work = sys.argv[1]
@@ -136,7 +138,7 @@ run() {  # name dir: runs one target, writes its report line(s) to dir/report.tx
   echo "$failed" > "$dir/status"
 }
 targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod fuzz_scenario:scn
-         fuzz_pose_files:poses fuzz_ply_reader:ply)
+         fuzz_pose_files:poses fuzz_ply_reader:ply fuzz_pds_reader:pds)
 if [[ -n ${FUZZ_TARGETS:-} ]]; then  # e.g. FUZZ_TARGETS="fuzz_file_readers fuzz_pose_files"
   chosen=()
   for t in "${targets[@]}"; do
