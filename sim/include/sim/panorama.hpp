@@ -23,7 +23,7 @@
 // marginal of its own (dtheta, dt).
 //
 // Determinism: vtm::math only, one draw per statement, one stream ("pointing") seeded
-// from the scenario seed. No heap; Panorama is ~64 KiB: declare it static.
+// from the scenario seed. No heap; a Panorama is about 60 KiB: declare it static.
 #pragma once
 
 #include <cstdint>

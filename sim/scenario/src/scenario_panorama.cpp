@@ -264,12 +264,12 @@ Status panoramaFrames(const Scenario& sc, const Terrain& terrain, ScenarioFrames
     const PanoramaErrors errors = drawPanoramaErrors(sc);
     const PanoramaRover rover = panoramaRover(sc, terrain, errors);
     const std::int32_t count = sc.motion.tiers.count * sc.motion.columns;
-    const double cov_rad2[3] = {sc.pointing.rover_roll_sigma_deg * sc.pointing.rover_roll_sigma_deg,
-                                sc.pointing.rover_pitch_sigma_deg * sc.pointing.rover_pitch_sigma_deg,
-                                sc.pointing.rover_heading_sigma_deg * sc.pointing.rover_heading_sigma_deg};
+    // The telemetry's attitude covariance: the rover errors about the vehicle axes, in site axes.
+    double sigma[kErrorParams];
+    parameterSigmas(sc.pointing, sigma);
     Mat3 attitude_cov = Mat3::Zero();
-    for (int i = 0; i < 3; ++i) {  // bound: 3 axes
-        attitude_cov(i, i) = cov_rad2[i] * kRadPerDeg * kRadPerDeg;
+    for (int i = 0; i < 3; ++i) {  // bound: roll, pitch, heading
+        attitude_cov(i, i) = sigma[i] * sigma[i];
     }
     attitude_cov = rover.R_site_from_vehicle * attitude_cov * rover.R_site_from_vehicle.transpose();
     for (std::int32_t k = 0; k < count; ++k) {  // bound: count <= kMaxPanoramaStations (validated)
