@@ -116,6 +116,21 @@ TEST(PanoramaParser, MoreErrorsNameTheKey) {
                 "camera.mount_tilt_deg does not belong to this kind");
     expectError(withLine("scale_error_percent", "scale_error_percent 1", "[odometry]"), StatusCode::kInvalidConfig,
                 "odometry.scale_error_percent does not belong to this kind");
+    // A scenario built in code is checked the same way.
+    Scenario s = smallScenario();
+    s.motion.tiers.count = 1;
+    Status st = validateScenario(s);
+    EXPECT_EQ(st.code(), StatusCode::kInvalidConfig);
+    EXPECT_NE(std::strstr(st.reason(), "motion.tier_tilts_deg is out of range"), nullptr) << st.reason();
+    s = smallScenario();
+    s.motion.columns = 5;
+    st = validateScenario(s);
+    EXPECT_NE(std::strstr(st.reason(), "motion.columns too few"), nullptr) << st.reason();
+    static Panorama p;
+    const Scenario rover_pair = parseOk(readScenarioFile("test_rover_small.scn"));
+    st = buildPanorama(rover_pair, smallTerrain(), p);
+    EXPECT_EQ(st.code(), StatusCode::kInvalidConfig);
+    EXPECT_NE(std::strstr(st.reason(), "not panorama"), nullptr) << st.reason();
     // [pointing] keys in another kind.
     std::string pair = readScenarioFile("test_rover_small.scn") + "\n[pointing]\npan_sigma_deg 0.1\n";
     expectError(pair, StatusCode::kInvalidConfig, "pointing.pan_sigma_deg does not belong to this kind");
