@@ -38,7 +38,8 @@ namespace vtm::sim {
 
 // Every random quantity of one panorama (radians, metres).
 struct PanoramaErrors {
-    Vec3 rover_attitude_rad = Vec3::Zero();  // telemetry roll, pitch, heading error: R_telemetry = R_true Exp(e), vehicle axes
+    // Telemetry roll, pitch, heading error e about the vehicle axes: R_telemetry = R_true Exp(e).
+    Vec3 rover_attitude_rad = Vec3::Zero();
     Vec2 mast_tilt_rad = Vec2::Zero();       // true mast axis tilt f = (fx, fy, 0) about the vehicle x and y axes
     Vec3 head_offset_m = Vec3::Zero();       // true head position offset d, vehicle frame
     double pan_error_rad[kMaxPanoramaStations] = {};   // encoder reading - true angle, per station

@@ -1,5 +1,6 @@
 // The frames of a scenario (sim/scenario.hpp buildScenarioFrames): vehicle paths of the
-// moving kinds (the panorama's stations: scenario_panorama.cpp), camera poses from the mount, per-frame sensor settings and the odometry.
+// moving kinds, camera poses from the mount, per-frame sensor settings and the odometry
+// (the panorama's stations: scenario_panorama.cpp).
 #include <cmath>
 #include <cstring>
 
