@@ -1,6 +1,6 @@
-// Determinism section "panorama" (sim/panorama.hpp): the true and approximate stations and
-// the prior covariances of a small seeded panorama over an analytic plane, hashed by bit
-// pattern (little-endian bytes, so byte order does not matter).
+// Determinism section "panorama" (sim/panorama.hpp): the true and approximate stations,
+// the prior covariances and some cross-covariances of a small seeded panorama over an
+// analytic plane, hashed by bit pattern (little-endian bytes, so byte order does not matter).
 #include <cstdint>
 #include <cstring>
 #include <string_view>
@@ -67,6 +67,12 @@ std::uint64_t panoramaSection() noexcept {
         h = fnvPose(h, s.approx.site_from_a);
         for (int i = 0; i < 36; ++i) {  // bound: 6x6
             h = fnvDouble(h, s.approx.prior_covariance(i / 6, i % 6));
+        }
+    }
+    for (std::int32_t k = 1; built.isOk() && k < panorama.count; k += 5) {  // bound: <= kMaxPanoramaStations / 5
+        const Mat6 cross = sim::panoramaCrossCovariance(scenario, panorama, 0, k);
+        for (int i = 0; i < 36; ++i) {  // bound: 6x6
+            h = fnvDouble(h, cross(i / 6, i % 6));
         }
     }
     return h;

@@ -18,6 +18,8 @@
 #include "terrain_pool.hpp"
 #include "vtm/core/rotation.hpp"
 
+#include <Eigen/Eigenvalues>  // after vtm/core/eigen.hpp: the test's own eigen-decomposition
+
 namespace vtm::sim {
 namespace {
 
@@ -351,6 +353,71 @@ TEST(PanoramaErrors, NormalisedErrorsFollowChiSquareWithSixDegreesOfFreedom) {
         syy += heading1[i] * heading1[i];
     }
     EXPECT_GT(sxy / std::sqrt(sxx * syy), 0.8);
+}
+
+TEST(PanoramaErrors, JointErrorsOfTwoStationsFollowChiSquareOfTheJointRank) {
+    Scenario s = smallScenario();
+    static Panorama p;
+    constexpr int kSeeds = 400;
+    double sum = 0.0;
+    double sum2 = 0.0;
+    double cross_sum = 0.0;  // the heading (dtheta z) errors of the two stations, normalised
+    double dof_sum = 0.0;
+    // Second-order size of an error of 4 sigma of the largest angle (the 1 deg heading): theta^2 / 2.
+    const double kSecondOrder = 0.5 * (4.0 * kDeg) * (4.0 * kDeg);
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+        s.seed = static_cast<std::uint64_t>(seed) * 104729U;
+        ASSERT_TRUE(buildPanorama(s, smallTerrain(), p).isOk());
+        const int k = seed % p.count;
+        const int l = (k + 5 + (seed % 3) * p.columns) % p.count;  // same tier or the other one
+        Eigen::Matrix<double, 12, 12> joint;
+        joint.block<6, 6>(0, 0) = panoramaCrossCovariance(s, p, k, k);
+        joint.block<6, 6>(6, 6) = panoramaCrossCovariance(s, p, l, l);
+        joint.block<6, 6>(0, 6) = panoramaCrossCovariance(s, p, k, l);
+        joint.block<6, 6>(6, 0) = panoramaCrossCovariance(s, p, l, k);
+        EXPECT_LT((joint.block<6, 6>(0, 6) - joint.block<6, 6>(6, 0).transpose()).norm(),
+                  1e-12 * joint.norm());
+        Eigen::Matrix<double, 12, 1> e;
+        e.head<6>() = stationError(p.stations[k]).e;
+        e.tail<6>() = stationError(p.stations[l]).e;
+        // The joint is singular, rank 9 of 12: to first order three combinations of the 12
+        // parameters change neither station: a mast tilt about the vehicle x axis with the same
+        // rover roll; a mast tilt about y with the same rover pitch and the head offset that
+        // undoes the head's move; a rover heading error with pan encoder errors undoing it at
+        // both stations and the head offset. Chi-square over the eigenvectors whose eigenvalue
+        // is not zero; along the others the errors are second-order small.
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>> eig(joint);
+        const double largest = eig.eigenvalues()(11);
+        double chi2 = 0.0;
+        int rank = 0;
+        for (int i = 0; i < 12; ++i) {
+            const double lambda = eig.eigenvalues()(i);
+            const double along = eig.eigenvectors().col(i).dot(e);
+            if (lambda > 1e-12 * largest) {
+                chi2 += along * along / lambda;
+                ++rank;
+            } else {
+                EXPECT_LT(std::abs(along), kSecondOrder) << seed;
+            }
+        }
+        dof_sum += rank;
+        sum += chi2;
+        sum2 += chi2 * chi2;
+        cross_sum += e(2) * e(8) / joint(2, 8);
+    }
+    const double mean = sum / kSeeds;
+    const double var = sum2 / kSeeds - mean * mean;
+    const double dof = dof_sum / kSeeds;
+    // chi-square(dof): mean dof (sampling sd ~0.24), variance 2 dof.
+    EXPECT_EQ(dof, 9.0);
+    EXPECT_NEAR(mean, dof, 1.0);
+    EXPECT_NEAR(var, 2.0 * dof, 10.0);
+    RecordProperty("joint_rank_x1000", static_cast<int>(dof * 1000.0));
+    // The predicted cross-covariance of the heading errors is the sampled one (ratio ~1).
+    EXPECT_NEAR(cross_sum / kSeeds, 1.0, 0.25);
+    RecordProperty("heading_cross_ratio_x1000", static_cast<int>(cross_sum / kSeeds * 1000.0));
+    RecordProperty("joint_chi2_mean_x1000", static_cast<int>(mean * 1000.0));
+    RecordProperty("joint_chi2_var_x1000", static_cast<int>(var * 1000.0));
 }
 
 TEST(PanoramaErrors, PerPanoramaErrorsAreSharedAndEncoderErrorsAreNot) {

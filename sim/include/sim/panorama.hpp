@@ -96,6 +96,12 @@ struct Panorama {
 // of another kind; kInvalidArgument for a terrain not built.
 [[nodiscard]] Status buildPanorama(const Scenario& scenario, const Terrain& terrain, Panorama& out) noexcept;
 
+// E[e_k e_l^T] of the errors e = (dtheta, dt) of stations k and l of a panorama built from
+// `scenario` (first order, like the priors): through the per-panorama errors (rover
+// attitude, mast tilt, head offset) that they share; k == l gives the station's prior.
+[[nodiscard]] Mat6 panoramaCrossCovariance(const Scenario& scenario, const Panorama& panorama, std::int32_t k,
+                                           std::int32_t l) noexcept;
+
 // Angular overlap of neighbouring exposures, degrees, measured on the eye model's rays
 // through the middle of opposite image edges: horizontal (same tier, pan neighbours) at the
 // image's middle row, per tier; vertical (same column, tier neighbours) along the middle

@@ -94,16 +94,30 @@ ErrorJacobian pointingJacobian(const Scenario& sc, const Mat3& A, const Mat3& R,
     return J;
 }
 
-Mat6 priorCovariance(const Scenario& sc, const ErrorJacobian& J) noexcept {
+// J_a diag(sigma^2) J_b^T over the first `params` parameters (all 10: one station's
+// covariance; the 8 per-panorama ones: the covariance between two stations).
+Mat6 propagate(const Scenario& sc, const ErrorJacobian& Ja, const ErrorJacobian& Jb, int params) noexcept {
     double sigma[kErrorParams];
     parameterSigmas(sc.pointing, sigma);
-    ErrorJacobian JS = J;
+    ErrorJacobian JS = Ja;
     for (int c = 0; c < kErrorParams; ++c) {  // bound: 10 parameters
-        JS.col(c) *= sigma[c] * sigma[c];
+        JS.col(c) *= (c < params) ? sigma[c] * sigma[c] : 0.0;
     }
-    const Mat6 cov = JS * J.transpose();
+    return JS * Jb.transpose();
+}
+
+Mat6 priorCovariance(const Scenario& sc, const ErrorJacobian& J) noexcept {
+    const Mat6 cov = propagate(sc, J, J, kErrorParams);
     return 0.5 * (cov + cov.transpose());
 }
+
+// The Jacobian of station k of a built panorama (at its telemetry pose and encoder pan).
+ErrorJacobian stationJacobian(const Scenario& sc, const Panorama& p, std::int32_t k) noexcept {
+    const double pan_rad = p.stations[k].pan_deg * kRadPerDeg + p.errors.pan_error_rad[k];
+    return pointingJacobian(sc, p.rover.R_telemetry, p.stations[k].approx.site_from_a.R, pan_rad);
+}
+
+constexpr int kSharedParams = 8;  // rover attitude, mast tilt, head offset: drawn once per panorama
 
 // Rays through the middle of the left/right (or top/bottom) image edges, camera frame.
 Status edgeRays(const CameraModel& m, bool horizontal, Vec3& first, Vec3& second) noexcept {
@@ -214,6 +228,14 @@ Status buildPanorama(const Scenario& sc, const Terrain& terrain, Panorama& out) 
         out.stations[k] = panoramaStation(sc, out.rover, out.errors, k);
     }
     return Status::ok();
+}
+
+Mat6 panoramaCrossCovariance(const Scenario& sc, const Panorama& p, std::int32_t k, std::int32_t l) noexcept {
+    VTM_ASSERT(k >= 0 && k < p.count && l >= 0 && l < p.count, k);
+    if (k == l) {
+        return p.stations[k].approx.prior_covariance;
+    }
+    return propagate(sc, stationJacobian(sc, p, k), stationJacobian(sc, p, l), kSharedParams);
 }
 
 Status panoramaOverlap(const Scenario& sc, PanoramaOverlap& out) noexcept {
