@@ -37,8 +37,12 @@ enum class Section : std::uint8_t {
     kOctree = 10,
     kIcp = 11,
     kOrbitalFix = 12,
+    kPanorama = 13,
 };
-constexpr int kSectionCount = 13;
+constexpr int kSectionCount = 14;
+
+// Sections defined in their own files (tests/determinism/<module>_section.cpp).
+std::uint64_t panoramaSection() noexcept;  // panorama_section.cpp
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;

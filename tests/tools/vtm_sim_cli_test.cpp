@@ -21,6 +21,7 @@
 #include "hal/file/file_camera.hpp"
 #include "hal/file/file_odometry.hpp"
 #include "sim/orbital.hpp"
+#include "sim/panorama.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "vtm/ground/camera_model_io.hpp"
@@ -303,6 +304,59 @@ TEST(VtmSimRender, BadInputExitsNonZeroWithOneLineNamingTheField) {
     }
     // The bad field's line number is in the message.
     EXPECT_NE(vtmSim(dir, cases[0].args).err.find("line "), std::string::npos);
+}
+
+// panorama_stations.txt (docs/sim-scenarios.md "Panorama"): every station's true and
+// approximate left-eye pose and its prior, as buildPanorama computes them in this process.
+TEST(VtmSimRender, PanoramaStationsFileHoldsTheInProcessStations) {
+    const test::TempDir dir;
+    const std::string out = dir.file("pano");
+    const std::string scn = std::string(VTM_SCENARIO_DIR) + "/test_panorama_small.scn";
+    const CommandRun run = vtmSim(dir, "render '" + scn + "' '" + out + "' --frames 0,1");
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_TRUE(std::filesystem::is_regular_file(out + "/stereo_left_000.png"));
+    EXPECT_TRUE(std::filesystem::is_regular_file(out + "/stereo_right_000.png"));
+    const InProcess world(slurp(scn));
+    auto panorama = std::make_unique<sim::Panorama>();
+    ASSERT_TRUE(sim::buildPanorama(world.scenario, world.terrain, *panorama).isOk());
+    std::istringstream in(slurp(out + "/panorama_stations.txt"));
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "vtm-panorama-stations 1");
+    int station = -1;
+    int poses = 0;
+    int priors = 0;
+    while (std::getline(in, line)) {
+        std::istringstream fields(line);
+        std::string key;
+        fields >> key;
+        if (key == "station") {
+            fields >> station;
+            continue;
+        }
+        if (key != "true" && key != "approx" && key != "prior") continue;
+        ASSERT_GE(station, 0);
+        ASSERT_LT(station, panorama->count);
+        const sim::PanoramaStation& s = panorama->stations[station];
+        if (key == "prior") {
+            for (int i = 0; i < 36; ++i) {
+                double v = 0.0;
+                fields >> v;
+                EXPECT_EQ(v, s.approx.prior_covariance(i / 6, i % 6)) << station << " " << i;
+            }
+            ++priors;
+            continue;
+        }
+        const RigidPose& expected = (key == "true") ? s.truth.site_from_a : s.approx.site_from_a;
+        double v[7] = {};
+        for (double& x : v) fields >> x;
+        for (int i = 0; i < 3; ++i) EXPECT_EQ(v[i], expected.t_m[i]) << key << " " << station;
+        const Mat3 R = Quat(v[3], v[4], v[5], v[6]).toRotationMatrix();
+        EXPECT_LT((R - expected.R).norm(), 1e-12) << key << " " << station;
+        ++poses;
+    }
+    EXPECT_EQ(poses, 2 * panorama->count);
+    EXPECT_EQ(priors, panorama->count);
 }
 
 }  // namespace

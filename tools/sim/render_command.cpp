@@ -15,6 +15,7 @@
 
 #include "vtm/ground/exit_codes.hpp"
 #include "sim/orbital.hpp"
+#include "sim/panorama.hpp"
 #include "sim/render.hpp"
 #include "sim/scenario.hpp"
 #include "sim/terrain.hpp"
@@ -181,6 +182,12 @@ bool writeStereoTruth(const World& w, const sim::ScenarioFrame& f, const std::st
                  error);
 }
 
+// The fixed pair's true disparity needs two undistorted pinholes (panorama eyes may be any model).
+bool isRectifiedPinhole(const CameraModel& m) {
+    return m.kind == CameraModelKind::kPinholeBrown && m.k1 == 0.0 && m.k2 == 0.0 && m.k3 == 0.0 && m.p1 == 0.0 &&
+           m.p2 == 0.0;
+}
+
 bool renderOne(const World& w, const sim::ScenarioFrame& f, const std::string& outdir, const std::string& format,
                FrameReport& report, Error& error) {
     const int width = f.model.width_px;
@@ -207,7 +214,8 @@ bool renderOne(const World& w, const sim::ScenarioFrame& f, const std::string& o
     return writeImage(base, format, f, img8, img16, error) &&
            check(ground::writePfm(base + "_depth.pfm", skyAsInfinity(depth)), error) &&
            check(ground::writePfm(base + "_range.pfm", skyAsInfinity(range)), error) &&
-           (f.role != sim::FrameRole::kStereoLeft || writeStereoTruth(w, f, base, format, error));
+           (f.role != sim::FrameRole::kStereoLeft || !isRectifiedPinhole(f.model) ||
+            writeStereoTruth(w, f, base, format, error));
 }
 
 const char* modalityName(sim::OrbitalModality m) {
@@ -339,10 +347,54 @@ bool writeCameraFiles(const World& w, const std::vector<bool>& selected, const s
     return writeText(outdir + "/camera_poses.txt", ground::formatCameraPoses(poses), error);
 }
 
+std::string poseFields(const RigidPose& pose) {
+    const Quat q(pose.R);
+    return number(pose.t_m.x()) + " " + number(pose.t_m.y()) + " " + number(pose.t_m.z()) + " " + number(q.w()) + " " +
+           number(q.x()) + " " + number(q.y()) + " " + number(q.z());
+}
+
+// panorama_stations.txt (docs/sim-scenarios.md "Panorama"): per station its place in the
+// panorama, the true and the approximate (telemetry) left-eye pose and the prior covariance.
+std::string panoramaStationsText(const World& w, const sim::Panorama& p) {
+    std::string t = "vtm-panorama-stations 1\n# " + std::string(w.scenario.name) +
+                    " (vtm-sim render). Left eye = station pose (T_site_from_left: x y z [m, site north east down] "
+                    "qw qx qy qz);\n# right eye = left + R (baseline_m, 0, 0). prior: 6x6 row-major covariance of "
+                    "(dtheta [rad], dt [m]),\n# R_true = rotationExp(dtheta) R_approx, t_true = t_approx + dt. "
+                    "Images: stereo_left_<k>, stereo_right_<k>.\n";
+    t += "baseline_m " + number(w.scenario.motion.stereo_baseline_m) + "\n";
+    t += "stations " + std::to_string(p.count) + " tiers " + std::to_string(p.tiers) + " columns " +
+         std::to_string(p.columns) + "\n";
+    for (int k = 0; k < p.count; ++k) {
+        const sim::PanoramaStation& s = p.stations[k];
+        t += "station " + std::to_string(k) + " tier " + std::to_string(s.tier) + " column " +
+             std::to_string(s.column) + " pan_deg " + number(s.pan_deg) + " tilt_deg " + number(s.tilt_deg) + "\n";
+        t += "true " + poseFields(s.truth.site_from_a) + "\n";
+        t += "approx " + poseFields(s.approx.site_from_a) + "\n";
+        t += "prior";
+        for (int i = 0; i < 36; ++i) t += " " + number(s.approx.prior_covariance(i / 6, i % 6));
+        t += "\n";
+    }
+    return t;
+}
+
+bool writePanoramaStations(const World& w, const std::string& outdir, Error& error) {
+    if (w.scenario.kind != sim::ScenarioKind::kPanorama) {
+        return true;
+    }
+    auto panorama = std::make_unique<sim::Panorama>();
+    const Status st = sim::buildPanorama(w.scenario, w.terrain, *panorama);
+    if (!st.isOk()) {
+        error = {"vtm-sim: panorama: " + std::string(st.reason())};
+        return false;
+    }
+    return writeText(outdir + "/panorama_stations.txt", panoramaStationsText(w, *panorama), error);
+}
+
 const char* kindName(sim::ScenarioKind kind) {
     switch (kind) {
         case sim::ScenarioKind::kRoverPair: return "rover_pair";
         case sim::ScenarioKind::kDescent: return "descent";
+        case sim::ScenarioKind::kPanorama: return "panorama";
         default: return "traverse";
     }
 }
@@ -361,6 +413,11 @@ std::string readme(const World& w, const std::vector<FrameReport>& reports, cons
     r += "| `<camera>.frames` | hal/file FileCamera manifest |\n| `<camera>.cmod` | camera model (parseCameraModel) |\n";
     r += "| `truth.poses`, `odometry.poses` | hal/file FileOdometry pose logs, T_site_from_vehicle |\n";
     r += "| `camera_poses.txt` | T_site_from_camera per frame |\n";
+    if (w.scenario.kind == sim::ScenarioKind::kPanorama) {
+        r += "| `panorama_stations.txt` | panorama: true and approximate (telemetry) left-eye pose and prior "
+             "covariance per station; `stereo_left_<k>`/`stereo_right_<k>` are the eyes of station k; "
+             "`stereo_left_<k>_disparity.pfm` the pair's true disparity |\n";
+    }
     if (w.scenario.orbital.enabled) {
         r += "| `orbital." + format + "`, `orbital.geo`, `orbital_elevation.pfm` | orbital view (nadir, orthographic, " +
              std::string(modalityName(w.scenario.orbital.modality)) +
@@ -440,6 +497,7 @@ int runRender(const RenderOptions& options) {
     }
     const bool ok = writePoseLogs(w, options.outdir, error) &&
                     writeCameraFiles(w, selected, options.outdir, options.format, error) &&
+                    writePanoramaStations(w, options.outdir, error) &&
                     writeText(options.outdir + "/scenario.scn", w.text, error) &&
                     writeText(options.outdir + "/README.md", readme(w, reports, options.format), error);
     return ok ? tools::kExitOk : fail(error);

@@ -36,6 +36,7 @@ enum class ScenarioKind : std::uint8_t {
     kRoverPair = 1,  // mast camera at two rover positions + a fixed-baseline stereo pair
     kDescent = 2,    // nadir camera of a descending lander
     kTraverse = 3,   // a short rover drive, one frame per stop
+    kPanorama = 4,   // a mast stereo pair turned through 360 deg in tiers (sim/panorama.hpp)
 };
 
 // Capacities of a Scenario.
@@ -44,6 +45,9 @@ constexpr std::int32_t kMaxScenarioFrames = 64;     // frames of one scenario (a
 constexpr std::int32_t kMaxTraverseStops = 60;
 constexpr std::int32_t kMinDescentFrames = 2;
 constexpr std::int32_t kMaxDescentFrames = 32;
+constexpr std::int32_t kMinPanoramaTiers = 2;
+constexpr std::int32_t kMaxPanoramaTiers = 3;
+constexpr std::int32_t kMaxPanoramaStations = kMaxScenarioFrames / 2;  // two frames (eyes) per station
 constexpr std::size_t kMaxScenarioTextBytes = 65536U;
 
 // Where the camera's reference frame sits on the vehicle.
@@ -72,6 +76,13 @@ struct OdometryErrorModel {
     double random_walk_m_per_sqrt_m = 0.0;      // position random walk (>= 0)
 };
 
+// A panorama's tiers: the elevation of each tier's view direction (negative = down),
+// count = kMinPanoramaTiers .. kMaxPanoramaTiers; entries past count are unused.
+struct TierTilts {
+    std::int32_t count = 2;
+    double deg[kMaxPanoramaTiers] = {-10.0, -35.0, -60.0};
+};
+
 // [motion]: the fields of the scenario's kind (the others stay at their defaults).
 struct MotionParams {
     Vec2 start_site_m = Vec2::Zero();  // north, east: pair midpoint / first stop / first nadir point
@@ -93,6 +104,25 @@ struct MotionParams {
     std::int32_t stops = 6;
     double step_m = 2.0;               // drive between consecutive stops
     double turn_deg_per_stop = 0.0;    // heading change per step, positive to the right
+    // panorama (also stereo_baseline_m; the eyes are [camera]'s model, the pan/tilt head
+    // sits at camera.mount_position_m: its z is minus the mast height)
+    std::int32_t columns = 10;         // exposures per tier, evenly spaced through 360 deg of pan
+    TierTilts tiers{};                 // the tiers' view elevations, top tier first
+    double station_interval_s = 5.0;   // time between consecutive exposures
+};
+
+// [pointing] (panorama only): the seeded error model of what the rover's telemetry says
+// about each exposure's pose (docs/sim-scenarios.md "Panorama"). Every error is zero-mean
+// normal with the given sigma, drawn per exposure (encoders) or once per panorama (mast,
+// rover attitude, so shared by all stations).
+struct PointingErrorModel {
+    double pan_sigma_deg = 0.0;          // pan encoder, per exposure
+    double tilt_sigma_deg = 0.0;         // tilt encoder, per exposure
+    double mast_tilt_sigma_deg = 0.0;    // mast axis tilt about each horizontal vehicle axis, per panorama
+    double head_offset_sigma_m = 0.0;    // head position offset per vehicle axis, per panorama
+    double rover_roll_sigma_deg = 0.0;   // rover attitude telemetry, per panorama
+    double rover_pitch_sigma_deg = 0.0;
+    double rover_heading_sigma_deg = 0.0;
 };
 
 // Per-frame differences of the sensor: frame k > 0 gets exposure and gain factors
@@ -140,6 +170,7 @@ struct Scenario {
     MotionParams motion{};
     OdometryErrorModel odometry{};
     OrbitalScenario orbital{};
+    PointingErrorModel pointing{};  // panorama only
 };
 
 // Parses a scenario text (docs/sim-scenarios.md). Every problem is a Status whose reason
@@ -173,7 +204,7 @@ struct VehiclePose {
 enum class FrameRole : std::uint8_t {
     kMain = 0,         // the scenario's camera (mast / nadir)
     kStereoLeft = 1,   // rover_pair: fixed stereo pair at the first position
-    kStereoRight = 2,
+    kStereoRight = 2,  // (panorama: every frame is one eye of a station, sequence = station)
 };
 
 // Camera ids in frames and manifests.
@@ -203,7 +234,8 @@ struct ScenarioFrames {
     std::int32_t count = 0;
 };
 
-// Number of frames the scenario produces (rover_pair: 4, descent: frames, traverse: stops).
+// Number of frames the scenario produces (rover_pair: 4, descent: frames, traverse: stops,
+// panorama: 2 * tiers * columns, left eye of station k at 2k, right eye at 2k + 1).
 [[nodiscard]] std::int32_t scenarioFrameCount(const Scenario& scenario) noexcept;
 
 // The frames of a valid scenario over its built terrain (rovers stand on it, the lander's

@@ -1,9 +1,12 @@
 // The frames of a scenario (sim/scenario.hpp buildScenarioFrames): vehicle paths of the
-// three kinds, camera poses from the mount, per-frame sensor settings and the odometry.
+// moving kinds, camera poses from the mount, per-frame sensor settings and the odometry
+// (the panorama's stations: scenario_panorama.cpp).
 #include <cmath>
 #include <cstring>
 
 #include "rotation.hpp"
+#include "scenario_geometry.hpp"
+#include "scenario_panorama.hpp"
 #include "sim/scenario.hpp"
 #include "vtm/core/random.hpp"
 
@@ -12,23 +15,9 @@ namespace {
 
 using detail::kRadPerDeg;
 
-// Seeds of the scenario's random streams (one generator per purpose).
-constexpr std::uint64_t kOdometryStream = 0x6F646F6D65747279ULL;  // "odometry"
-constexpr std::uint64_t kSensorStream = 0x73656E736F727631ULL;
-constexpr std::uint64_t kAttitudeStream = 0x6174746974756465ULL;
-
-std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) noexcept {
-    std::uint64_t state = seed ^ stream;
-    return splitMix64(state);
-}
-
-// The camera's reference frame in the vehicle frame (docs: pan, then tilt, then roll).
-Mat3 mountRotation(const CameraMount& mount) noexcept {
-    Mat3 base;  // reference +z = vehicle +x, +x = vehicle +y, +y = vehicle +z
-    base << 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0;
-    return detail::rotationZ(mount.pan_deg * kRadPerDeg) * detail::rotationY(mount.tilt_deg * kRadPerDeg) * base *
-           detail::rotationZ(mount.roll_deg * kRadPerDeg);
-}
+using detail::mountRotation;
+using detail::streamSeed;
+using detail::toNanoseconds;
 
 // Projection centre and optical axis of the model in its reference frame.
 Vec3 modelCentre(const CameraModel& m) noexcept {
@@ -38,8 +27,6 @@ Vec3 modelAxis(const CameraModel& m) noexcept {
     return (m.kind == CameraModelKind::kPinholeBrown) ? Vec3::UnitZ() : Vec3(m.a[0], m.a[1], m.a[2]);
 }
 
-std::uint64_t toNanoseconds(double t_s) noexcept { return static_cast<std::uint64_t>(std::floor(t_s * 1e9 + 0.5)); }
-
 // A vehicle pose: where it stands, how it is turned, when.
 struct Station {
     Vec3 position_site_m = Vec3::Zero();
@@ -48,17 +35,7 @@ struct Station {
 };
 
 VehiclePose truePose(const Station& s) noexcept {
-    VehiclePose p;
-    const Quat q = detail::quaternionOf(s.R_site_from_vehicle);
-    p.timestamp_ns = toNanoseconds(s.time_s);
-    for (int i = 0; i < 3; ++i) {  // bound: 3 axes
-        p.position_m[i] = s.position_site_m[i];
-    }
-    p.attitude_wxyz[0] = q.w();
-    p.attitude_wxyz[1] = q.x();
-    p.attitude_wxyz[2] = q.y();
-    p.attitude_wxyz[3] = q.z();
-    return p;
+    return detail::vehiclePose(s.position_site_m, s.R_site_from_vehicle, s.time_s);
 }
 
 RigidPose mountedCamera(const Scenario& sc, const Station& s) noexcept {
@@ -186,7 +163,7 @@ Status descentFrames(const Scenario& sc, const Terrain& terrain, ScenarioFrames&
     const MotionParams& m = sc.motion;
     const Vec3 centre_vehicle_m = sc.mount.position_vehicle_m + mountRotation(sc.mount) * modelCentre(sc.camera);
     const double log_ratio = math::log(m.end_altitude_m / m.start_altitude_m);
-    Random rng(streamSeed(sc.seed, kAttitudeStream));
+    Random rng(streamSeed(sc.seed, detail::kAttitudeStream));
     const double sigma_rad = m.attitude_noise_deg * kRadPerDeg;
     for (std::int32_t k = 0; k < m.frames; ++k) {  // bound: frames <= kMaxDescentFrames
         const double fraction = static_cast<double>(k) / static_cast<double>(m.frames - 1);
@@ -236,7 +213,7 @@ Status traverseFrames(const Scenario& sc, const Terrain& terrain, ScenarioFrames
 // ---- per-frame sensor and odometry ------------------------------------------------------
 
 void varySensors(const Scenario& sc, ScenarioFrames& out) noexcept {
-    Random rng(streamSeed(sc.seed, kSensorStream));
+    Random rng(streamSeed(sc.seed, detail::kSensorStream));
     for (std::int32_t k = 1; k < out.count; ++k) {  // bound: count <= kMaxScenarioFrames
         const double u_exposure = 2.0 * rng.uniform01() - 1.0;
         const double u_gain = 2.0 * rng.uniform01() - 1.0;
@@ -264,13 +241,45 @@ void addOdometry(const Scenario& sc, ScenarioFrames& out) noexcept {
         }
         station_of[k] = s;
     }
-    applyOdometryErrors(sc.odometry, streamSeed(sc.seed, kOdometryStream), truth, odometry, stations);
+    applyOdometryErrors(sc.odometry, streamSeed(sc.seed, detail::kOdometryStream), truth, odometry, stations);
     for (std::int32_t k = 0; k < out.count; ++k) {  // bound: count
         out.frames[k].odometry_pose = odometry[station_of[k]];
     }
 }
 
 }  // namespace
+
+namespace detail {
+
+std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream) noexcept {
+    std::uint64_t state = seed ^ stream;
+    return splitMix64(state);
+}
+
+Mat3 mountRotation(const CameraMount& mount) noexcept {
+    Mat3 base;  // reference +z = vehicle +x, +x = vehicle +y, +y = vehicle +z
+    base << 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0;
+    return rotationZ(mount.pan_deg * kRadPerDeg) * rotationY(mount.tilt_deg * kRadPerDeg) * base *
+           rotationZ(mount.roll_deg * kRadPerDeg);
+}
+
+std::uint64_t toNanoseconds(double t_s) noexcept { return static_cast<std::uint64_t>(std::floor(t_s * 1e9 + 0.5)); }
+
+VehiclePose vehiclePose(const Vec3& position_site_m, const Mat3& R_site_from_vehicle, double time_s) noexcept {
+    VehiclePose p;
+    const Quat q = quaternionOf(R_site_from_vehicle);
+    p.timestamp_ns = toNanoseconds(time_s);
+    for (int i = 0; i < 3; ++i) {  // bound: 3 axes
+        p.position_m[i] = position_site_m[i];
+    }
+    p.attitude_wxyz[0] = q.w();
+    p.attitude_wxyz[1] = q.x();
+    p.attitude_wxyz[2] = q.y();
+    p.attitude_wxyz[3] = q.z();
+    return p;
+}
+
+}  // namespace detail
 
 RigidPose vehicleFromCamera(const ScenarioFrame& f) noexcept {
     const VehiclePose& v = f.true_pose;
@@ -287,6 +296,7 @@ std::int32_t scenarioFrameCount(const Scenario& scenario) noexcept {
     switch (scenario.kind) {
         case ScenarioKind::kRoverPair: return 4;
         case ScenarioKind::kDescent: return scenario.motion.frames;
+        case ScenarioKind::kPanorama: return 2 * scenario.motion.tiers.count * scenario.motion.columns;
         default: return scenario.motion.stops;
     }
 }
@@ -301,11 +311,14 @@ Status buildScenarioFrames(const Scenario& scenario, const Terrain& terrain, Sce
     switch (scenario.kind) {
         case ScenarioKind::kRoverPair: status = roverPairFrames(scenario, terrain, out); break;
         case ScenarioKind::kDescent: status = descentFrames(scenario, terrain, out); break;
+        case ScenarioKind::kPanorama: status = detail::panoramaFrames(scenario, terrain, out); break;
         default: status = traverseFrames(scenario, terrain, out); break;
     }
     VTM_RETURN_IF_ERROR(status);
     varySensors(scenario, out);
-    addOdometry(scenario, out);
+    if (scenario.kind != ScenarioKind::kPanorama) {  // the panorama's rover stands still: its telemetry is set
+        addOdometry(scenario, out);
+    }
     return Status::ok();
 }
 

@@ -19,23 +19,29 @@ enum class ValueType : std::uint8_t {
     kUint64,      // one integer 0 .. 2^64-1 (seeds)
     kBool,        // true | false
     kName,        // [A-Za-z0-9_-], 1 .. kMaxScenarioNameChars
-    kKind,        // rover_pair | descent | traverse
+    kKind,        // rover_pair | descent | traverse | panorama
     kModel,       // pinhole | cahv | cahvor
     kTerrainKind, // mars | plane | dome
     kModality,    // visible | thermal (OrbitalModality)
     kVec2,        // two finite numbers, each in [lo, hi]
     kVec3,        // three finite numbers, each in [lo, hi]
     kArray3,      // three finite numbers (double[3] member), each in [lo, hi]
+    kTierTilts,   // two or three finite numbers, each in [lo, hi] (TierTilts member)
 };
 
-enum class Section : std::uint8_t { kTop, kTerrain, kCamera, kSensor, kLighting, kMotion, kOdometry, kOrbital };
+enum class Section : std::uint8_t {
+    kTop, kTerrain, kCamera, kSensor, kLighting, kMotion, kOdometry, kOrbital, kPointing
+};
 
 // Bit masks of the scenario kinds a key belongs to.
-constexpr std::uint8_t kAnyKind = 0x7U;
+constexpr std::uint8_t kAnyKind = 0xFU;
 constexpr std::uint8_t kPairOnly = 0x1U;
 constexpr std::uint8_t kDescentOnly = 0x2U;
 constexpr std::uint8_t kTraverseOnly = 0x4U;
 constexpr std::uint8_t kRoverKinds = 0x5U;
+constexpr std::uint8_t kPanoramaOnly = 0x8U;
+constexpr std::uint8_t kMovingKinds = 0x7U;      // kinds whose vehicle moves (odometry, a fixed mount)
+constexpr std::uint8_t kPairOrPanorama = 0x9U;
 
 [[nodiscard]] constexpr std::uint8_t kindBit(ScenarioKind kind) noexcept {
     return static_cast<std::uint8_t>(1U << (static_cast<std::uint8_t>(kind) - 1U));

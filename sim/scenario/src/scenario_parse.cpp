@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "scenario_keys.hpp"
+#include "scenario_panorama.hpp"
 #include "scenario_values.hpp"
 #include "sim/scenario.hpp"
 #include "vtm/core/math.hpp"
@@ -14,7 +15,7 @@ namespace {
 using detail::KeySpec;
 using detail::Section;
 
-constexpr std::size_t kMaxKeys = 128U;
+constexpr std::size_t kMaxKeys = 160U;
 constexpr std::size_t kMaxTokens = 5U;  // key + up to 3 values (+1 to detect too many)
 
 struct SectionName {
@@ -24,7 +25,7 @@ struct SectionName {
 constexpr SectionName kSections[] = {{"terrain", Section::kTerrain},   {"camera", Section::kCamera},
                                      {"sensor", Section::kSensor},     {"lighting", Section::kLighting},
                                      {"motion", Section::kMotion},     {"odometry", Section::kOdometry},
-                                     {"orbital", Section::kOrbital}};
+                                     {"orbital", Section::kOrbital},   {"pointing", Section::kPointing}};
 
 struct Tokens {
     std::string_view token[kMaxTokens];
@@ -61,14 +62,15 @@ Status parseSectionHeader(const Tokens& t, Section& section, std::int32_t line) 
         return Status(StatusCode::kCorruptData, "scenario: a section line must be [name] alone", line);
     }
     const std::string_view name = head.substr(1U, head.size() - 2U);
-    for (const SectionName& s : kSections) {  // bound: 6 sections
+    for (const SectionName& s : kSections) {  // bound: 8 sections
         if (s.name == name) {
             section = s.section;
             return Status::ok();
         }
     }
     return Status(StatusCode::kCorruptData,
-                  "scenario: unknown [section] (terrain, camera, sensor, lighting, motion, odometry, orbital)", line);
+                  "scenario: unknown [section] (terrain, camera, sensor, lighting, motion, odometry, orbital, pointing)",
+                  line);
 }
 
 const char* unknownKeyReason(Section section) noexcept {
@@ -80,6 +82,7 @@ const char* unknownKeyReason(Section section) noexcept {
         case Section::kLighting: return "scenario: unknown key in [lighting]";
         case Section::kMotion: return "scenario: unknown key in [motion]";
         case Section::kOrbital: return "scenario: unknown key in [orbital]";
+        case Section::kPointing: return "scenario: unknown key in [pointing]";
         default: return "scenario: unknown key in [odometry]";
     }
 }
@@ -324,6 +327,7 @@ Status validateScenario(const Scenario& s) noexcept {
     VTM_RETURN_IF_ERROR(validateCameraModel(s.camera));
     VTM_RETURN_IF_ERROR(validateSensorParams(s.sensor));
     VTM_RETURN_IF_ERROR(validateLighting(s.lighting));
+    VTM_RETURN_IF_ERROR(detail::validatePanoramaCoverage(s));
     return validateOrbitalScenario(s);
 }
 

@@ -68,7 +68,8 @@ bool parseWord(std::string_view token, const WordValue<Enum> (&words)[N], Enum& 
 }
 
 constexpr WordValue<ScenarioKind> kKindWords[] = {
-    {"rover_pair", ScenarioKind::kRoverPair}, {"descent", ScenarioKind::kDescent}, {"traverse", ScenarioKind::kTraverse}};
+    {"rover_pair", ScenarioKind::kRoverPair}, {"descent", ScenarioKind::kDescent},
+    {"traverse", ScenarioKind::kTraverse},    {"panorama", ScenarioKind::kPanorama}};
 constexpr WordValue<CameraModelKind> kModelWords[] = {
     {"pinhole", CameraModelKind::kPinholeBrown}, {"cahv", CameraModelKind::kCahv}, {"cahvor", CameraModelKind::kCahvor}};
 constexpr WordValue<TerrainKind> kTerrainWords[] = {
@@ -93,13 +94,13 @@ bool setName(std::string_view token, char* name) noexcept {
 
 bool inRange(const KeySpec& spec, double value) noexcept { return value >= spec.lo && value <= spec.hi; }
 
-// Numbers of a numeric key into `values` (count = valueCount(spec.type)).
-Status parseNumbers(const KeySpec& spec, const std::string_view* tokens, double* values,
+// The `n` numbers of a numeric key into `values` (n = valueCount(spec.type), or 2 for a
+// two-tier kTierTilts).
+Status parseNumbers(const KeySpec& spec, const std::string_view* tokens, std::size_t n, double* values,
                     std::int32_t line) noexcept {
-    const std::size_t n = valueCount(spec.type);
     for (std::size_t i = 0U; i < n; ++i) {  // bound: <= 3 values
         if (spec.type == ValueType::kDouble || spec.type == ValueType::kVec2 || spec.type == ValueType::kVec3 ||
-            spec.type == ValueType::kArray3) {
+            spec.type == ValueType::kArray3 || spec.type == ValueType::kTierTilts) {
             if (!parseNumber(tokens[i], values[i])) {
                 return Status(StatusCode::kCorruptData, spec.bad_value, line);
             }
@@ -118,8 +119,16 @@ Status parseNumbers(const KeySpec& spec, const std::string_view* tokens, double*
     return Status::ok();
 }
 
-void storeNumbers(const KeySpec& spec, const double* values, void* field) noexcept {
+void storeNumbers(const KeySpec& spec, const double* values, std::size_t n, void* field) noexcept {
     switch (spec.type) {
+        case ValueType::kTierTilts: {
+            TierTilts& t = *static_cast<TierTilts*>(field);
+            t.count = static_cast<std::int32_t>(n);
+            for (std::size_t i = 0U; i < n; ++i) {  // bound: <= kMaxPanoramaTiers values
+                t.deg[i] = values[i];
+            }
+            break;
+        }
         case ValueType::kDouble: *static_cast<double*>(field) = values[0]; break;
         case ValueType::kInt32: *static_cast<std::int32_t*>(field) = static_cast<std::int32_t>(values[0]); break;
         case ValueType::kUint16: *static_cast<std::uint16_t*>(field) = static_cast<std::uint16_t>(values[0]); break;
@@ -142,7 +151,8 @@ std::size_t valueCount(ValueType type) noexcept {
     switch (type) {
         case ValueType::kVec2: return 2U;
         case ValueType::kVec3:
-        case ValueType::kArray3: return 3U;
+        case ValueType::kArray3:
+        case ValueType::kTierTilts: return 3U;
         default: return 1U;
     }
 }
@@ -163,7 +173,8 @@ bool parseNumber(std::string_view token, double& out) noexcept {
 
 Status setValue(const KeySpec& spec, const std::string_view* tokens, std::size_t count, Scenario& s,
                 std::int32_t line) noexcept {
-    if (count != valueCount(spec.type)) {
+    const bool two_tiers = spec.type == ValueType::kTierTilts && count == 2U;
+    if (count != valueCount(spec.type) && !two_tiers) {
         return Status(StatusCode::kCorruptData, spec.bad_value, line);
     }
     void* field = spec.field(s);
@@ -182,8 +193,8 @@ Status setValue(const KeySpec& spec, const std::string_view* tokens, std::size_t
         case ValueType::kModality: ok = parseWord(tokens[0], kModalityWords, *static_cast<OrbitalModality*>(field)); break;
         default: {
             double values[3] = {0.0, 0.0, 0.0};
-            VTM_RETURN_IF_ERROR(parseNumbers(spec, tokens, values, line));
-            storeNumbers(spec, values, field);
+            VTM_RETURN_IF_ERROR(parseNumbers(spec, tokens, count, values, line));
+            storeNumbers(spec, values, count, field);
             break;
         }
     }
@@ -212,9 +223,19 @@ Status checkRange(const KeySpec& spec, const Scenario& s) noexcept {
             break;
         }
         case ValueType::kArray3: std::memcpy(values, field, sizeof(values)); break;
+        case ValueType::kTierTilts: {
+            const TierTilts& t = *static_cast<const TierTilts*>(field);
+            if (t.count < kMinPanoramaTiers || t.count > kMaxPanoramaTiers) {
+                return Status(StatusCode::kInvalidConfig, spec.out_of_range, 0);
+            }
+            std::memcpy(values, t.deg, sizeof(values));
+            break;
+        }
         default: return Status::ok();
     }
-    const std::size_t n = valueCount(spec.type);
+    const std::size_t n = (spec.type == ValueType::kTierTilts)
+                              ? static_cast<std::size_t>(static_cast<const TierTilts*>(field)->count)
+                              : valueCount(spec.type);
     for (std::size_t i = 0U; i < n; ++i) {  // bound: <= 3 values
         // NaN fails both comparisons: out of range.
         if (!inRange(spec, values[i])) {
