@@ -16,7 +16,8 @@
 //   - local-entropy images and a multi-modal registration on a generated pair;
 //   - the terrain octree (every node) and its height products at three levels;
 //   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures);
-//   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames.
+//   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames;
+//   - the panorama's tie points (fsw/tiepoints) on two rendered stations (tiepoints_section.cpp).
 #pragma once
 
 #include <cstdint>
@@ -37,8 +38,9 @@ enum class Section : std::uint8_t {
     kOctree = 10,
     kIcp = 11,
     kOrbitalFix = 12,
+    kTiepoints = 13,
 };
-constexpr int kSectionCount = 13;
+constexpr int kSectionCount = 14;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;
@@ -46,5 +48,8 @@ const char* sectionName(Section s) noexcept;
 // Hash (64-bit FNV-1a over the little-endian bytes of each value's bit pattern, so that
 // byte order does not matter) of one section of the suite.
 std::uint64_t sectionHash(Section s) noexcept;
+
+// Sections in files of their own.
+std::uint64_t tiepointsSection() noexcept;  // tiepoints_section.cpp
 
 }  // namespace vtm::determinism
