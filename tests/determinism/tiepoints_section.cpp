@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <cstring>
 
-#include "../tiepoints/panorama_scene.hpp"
 #include "determinism_suite.hpp"
+#include "panorama_scene.hpp"
 #include "vtm/tiepoints/tiepoints.hpp"
 
 namespace vtm::determinism {

@@ -107,9 +107,11 @@ Status TiePointExtractor::addObservation(ImageRef image, std::uint32_t point, co
             b = t;
         }
         std::int32_t slot = 0;
-        while (slot < pairCount_ && (imageKey(pairs_[static_cast<std::size_t>(slot)].a) != imageKey(a) ||
-                                     imageKey(pairs_[static_cast<std::size_t>(slot)].b) != imageKey(b))) {
-            ++slot;
+        for (; slot < pairCount_; ++slot) {
+            const PairCount& p = pairs_[static_cast<std::size_t>(slot)];
+            if (imageKey(p.a) == imageKey(a) && imageKey(p.b) == imageKey(b)) {
+                break;
+            }
         }
         if (slot == pairCount_) {
             if (static_cast<std::size_t>(pairCount_) >= pairs_.size()) {

@@ -27,7 +27,7 @@ std::int32_t nearest(Span<const Match> matches, std::size_t k, std::int32_t n, d
             continue;
         }
         std::int32_t slot = found < n ? found : n - 1;  // insertion: strict < keeps the lower index first
-        while (slot > 0 && dist2[slot - 1] > d2) {
+        while (slot > 0 && dist2[slot - 1] > d2) {  // bound: n <= kMaxParallaxNeighbours
             index[slot] = index[slot - 1];
             dist2[slot] = dist2[slot - 1];
             --slot;
@@ -43,7 +43,7 @@ double median(double* v, std::int32_t n) noexcept {
     for (std::int32_t i = 1; i < n; ++i) {  // insertion sort: n <= kMaxParallaxNeighbours
         const double x = v[i];
         std::int32_t j = i;
-        while (j > 0 && v[j - 1] > x) {
+        while (j > 0 && v[j - 1] > x) {  // bound: i < n <= kMaxParallaxNeighbours
             v[j] = v[j - 1];
             --j;
         }
