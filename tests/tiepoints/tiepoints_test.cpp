@@ -125,6 +125,8 @@ TEST(TiePoints, ObservationsAgreeWithTruth) {
         std::printf("pair (%u %c) - (%u %c): %d\n", p.a.station, p.a.eye == Eye::kLeft ? 'L' : 'R', p.b.station,
                     p.b.eye == Eye::kLeft ? 'L' : 'R', p.count);
     }
+    std::printf("workspaceBytes %zu (this config), %zu (defaults)\n", TiePointExtractor::workspaceBytes(sceneConfig()),
+                TiePointExtractor::workspaceBytes(Config{}));
     ASSERT_GE(e.intra.size(), 60U);
     ASSERT_GE(e.inter.size(), 20U);
     EXPECT_LE(medianOf(e.intra), 0.3);
