@@ -230,6 +230,59 @@ TEST(TiePoints, NoHeapAndSameBitsTwice) {
     }
 }
 
+// The parallax check as the module runs it (on all of a station's left -> right matches,
+// before thinning), with one match deliberately corrupted: its right pixel moved 2.5 px
+// along the row. The corrupted one is rejected, and >= 90 % of the matches that are right
+// by the truth (<= 1 px) are kept.
+TEST(TiePoints, ParallaxCheckRejectsACorruptedMatch) {
+    const Scene& s = scene();
+    ASSERT_TRUE(s.ok);
+    const Config c = sceneConfig();
+    std::vector<std::byte> pool(features::ForstnerDetector::workspaceBytes(c.detectorConfig()) +
+                                features::TemplateMatcher::workspaceBytes(c.matcherConfig()));
+    Arena arena(pool.data(), pool.size());
+    features::ForstnerDetector detector;
+    features::TemplateMatcher matcher;
+    ASSERT_TRUE(detector.init(c.detectorConfig(), arena).isOk());
+    ASSERT_TRUE(matcher.init(c.matcherConfig(), arena).isOk());
+    auto fs = std::make_unique<features::FeatureSet>();
+    auto ms = std::make_unique<features::MatchSet>();
+    const std::int32_t station = 1;
+    ASSERT_TRUE(detector.detect(s.images[station].left, *fs).isOk());
+    features::MatchPrediction prediction;
+    prediction.pair = s.stations[station].rig;
+    prediction.range_min_m = c.range_min_m;
+    prediction.range_max_m = c.range_max_m;
+    prediction.margin_px = c.rig_margin_px;
+    ASSERT_TRUE(matcher.match(s.images[station].left, s.images[station].right, *fs, prediction, *ms).isOk());
+    ASSERT_GE(ms->count, 100);
+    const std::size_t bad = static_cast<std::size_t>(ms->count / 2);
+    ms->items[bad].pixel_b.x() += 2.5;
+    std::vector<std::uint8_t> keep(static_cast<std::size_t>(ms->count), 0U);
+    ASSERT_TRUE(checkParallax(Span<const features::Match>(ms->items, keep.size()), c.parallax,
+                              Span<std::uint8_t>(keep.data(), keep.size()))
+                    .isOk());
+    EXPECT_EQ(keep[bad], 0U);
+    std::int32_t right = 0;
+    std::int32_t right_kept = 0;
+    for (std::size_t k = 0; k < keep.size(); ++k) {
+        Vec3 ground = Vec3::Zero();
+        Vec2 projected = Vec2::Zero();
+        const RigidPose& pose = s.right[station];
+        if (k == bad || !trueGround(s, station, ms->items[k].pixel_a, ground) ||
+            !projectPoint(s.model, pose.R.transpose() * (ground - pose.t_m), projected).isOk()) {
+            continue;
+        }
+        if ((projected - ms->items[k].pixel_b).norm() <= 1.0) {
+            ++right;
+            right_kept += keep[k];
+        }
+    }
+    std::printf("station %d: %d matches, %d right by the truth, %d of them kept\n", station, ms->count, right,
+                right_kept);
+    EXPECT_GE(right_kept, (9 * right) / 10);
+}
+
 // ---- refusals ----
 
 Status refusalOf(const Config& config, std::vector<NetworkStation> stations, std::vector<StationImages> images) {
