@@ -264,6 +264,39 @@ Status TiePointExtractor::interPair(std::int32_t i, std::int32_t j, Span<const N
 
 Status TiePointExtractor::interEye(std::int32_t i, std::int32_t j, Eye eye, Span<const NetworkStation> stations,
                                    Span<const StationImages> images, Stats& stats) noexcept {
+    VTM_RETURN_IF_ERROR(searchEye(i, j, eye, stations, images, stats));
+    const Span<const features::Match> matches(matches_->items, static_cast<std::size_t>(matches_->count));
+    stats.inter_matched += matches_->count;
+    ParallaxStats ps;
+    VTM_RETURN_IF_ERROR(checkParallax(matches, config_.parallax, keep_, &ps));
+    stats.inter_consistent += ps.consistent;
+    std::int32_t kept = 0;
+    const ImageView<const std::uint8_t>& image_a = images[static_cast<std::size_t>(i)].left;
+    VTM_RETURN_IF_ERROR(thinByGrid(matches, config_.inter_grid, image_a.width(), image_a.height(), keep_, kept));
+    const std::size_t base = static_cast<std::size_t>(i) * static_cast<std::size_t>(config_.detector.max_features);
+    for (std::size_t k = 0U; k < matches.size(); ++k) {
+        if (keep_[k] == 0U) {
+            continue;
+        }
+        const std::size_t slot = base + static_cast<std::size_t>(matches[k].feature_index);
+        if (pointId_[slot] < 0) {
+            std::uint32_t id = 0U;
+            VTM_RETURN_IF_ERROR(newPoint(id));
+            pointId_[slot] = static_cast<std::int32_t>(id);
+            VTM_RETURN_IF_ERROR(addObservation(ImageRef{static_cast<std::uint16_t>(i), Eye::kLeft}, id,
+                                               matches[k].pixel_a));
+        }
+        VTM_RETURN_IF_ERROR(addObservation(ImageRef{static_cast<std::uint16_t>(j), eye},
+                                           static_cast<std::uint32_t>(pointId_[slot]), matches[k].pixel_b));
+        ++stats.inter_ties;
+    }
+    return Status::ok();
+}
+
+// Guided NCC search of every Förstner point of i's left image in eye `eye` of j; the
+// matches go to matches_ (feature_index = the point's index in station i).
+Status TiePointExtractor::searchEye(std::int32_t i, std::int32_t j, Eye eye, Span<const NetworkStation> stations,
+                                    Span<const StationImages> images, Stats& stats) noexcept {
     const NetworkStation& si = stations[static_cast<std::size_t>(i)];
     const NetworkStation& sj = stations[static_cast<std::size_t>(j)];
     const ImageView<const std::uint8_t>& image_a = images[static_cast<std::size_t>(i)].left;
@@ -273,7 +306,6 @@ Status TiePointExtractor::interEye(std::int32_t i, std::int32_t j, Eye eye, Span
     const RigidPose pose_b = siteFromEye(sj, eye);
     const double ppr = detail::pixelsPerRadian(model_b);
     const double border = 0.5 * static_cast<double>(config_.matcher.template_window) + 1.0;
-
     features::MatchPrediction prediction;
     prediction.pair.model_a = si.rig.model_a;
     prediction.pair.model_b = model_b;
@@ -301,34 +333,10 @@ Status TiePointExtractor::interEye(std::int32_t i, std::int32_t j, Eye eye, Span
         single_->count = 1;
         VTM_RETURN_IF_ERROR(matcher_.match(image_a, image_b, *single_, prediction, *found_));
         if (found_->count == 1) {
-            features::Match m = found_->items[0];
-            m.feature_index = k;
-            matches_->items[matches_->count] = m;
+            matches_->items[matches_->count] = found_->items[0];
+            matches_->items[matches_->count].feature_index = k;
             ++matches_->count;
         }
-    }
-    const Span<const features::Match> matches(matches_->items, static_cast<std::size_t>(matches_->count));
-    stats.inter_matched += matches_->count;
-    ParallaxStats ps;
-    VTM_RETURN_IF_ERROR(checkParallax(matches, config_.parallax, keep_, &ps));
-    stats.inter_consistent += ps.consistent;
-    std::int32_t kept = 0;
-    VTM_RETURN_IF_ERROR(thinByGrid(matches, config_.inter_grid, image_a.width(), image_a.height(), keep_, kept));
-    for (std::size_t k = 0U; k < matches.size(); ++k) {
-        if (keep_[k] == 0U) {
-            continue;
-        }
-        const std::size_t slot = base + static_cast<std::size_t>(matches[k].feature_index);
-        if (pointId_[slot] < 0) {
-            std::uint32_t id = 0U;
-            VTM_RETURN_IF_ERROR(newPoint(id));
-            pointId_[slot] = static_cast<std::int32_t>(id);
-            VTM_RETURN_IF_ERROR(addObservation(ImageRef{static_cast<std::uint16_t>(i), Eye::kLeft}, id,
-                                               matches[k].pixel_a));
-        }
-        VTM_RETURN_IF_ERROR(addObservation(ImageRef{static_cast<std::uint16_t>(j), eye},
-                                           static_cast<std::uint32_t>(pointId_[slot]), matches[k].pixel_b));
-        ++stats.inter_ties;
     }
     return Status::ok();
 }

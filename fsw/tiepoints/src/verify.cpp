@@ -140,6 +140,21 @@ bool planeOfThree(const Match* m[3], const Match& at, Plane& plane) noexcept {
     return true;
 }
 
+// How many neighbours agree with the plane within tolerance_px; with `use`, marks them.
+std::int32_t support(Span<const Match> matches, const Match& at, const std::int32_t* index, std::int32_t n,
+                     const Plane& plane, double tolerance_px, std::uint8_t* use) noexcept {
+    std::int32_t count = 0;
+    for (std::int32_t q = 0; q < n; ++q) {
+        const Match& m = matches[static_cast<std::size_t>(index[q])];
+        const bool agrees = (parallaxOf(m) - plane.at(m.pixel_a - at.pixel_a)).norm() <= tolerance_px;
+        count += agrees ? 1 : 0;
+        if (use != nullptr) {
+            use[q] = agrees ? 1U : 0U;
+        }
+    }
+    return count;
+}
+
 // The predicted parallax at match k from its neighbours. Robust: every triple of
 // neighbours (in index order) gives an exact plane; the plane that the most neighbours
 // agree with within tolerance_px wins (the first one on a tie), and the least-squares plane
@@ -160,17 +175,9 @@ Vec2 predictParallax(Span<const Match> matches, std::size_t k, const std::int32_
                 if (!planeOfThree(three, at, plane)) {
                     continue;
                 }
-                std::int32_t support = 0;
-                for (std::int32_t q = 0; q < n; ++q) {
-                    const Match& m = matches[static_cast<std::size_t>(index[q])];
-                    support += (parallaxOf(m) - plane.at(m.pixel_a - at.pixel_a)).norm() <= tolerance_px ? 1 : 0;
-                }
-                if (support > best) {
-                    best = support;
-                    for (std::int32_t q = 0; q < n; ++q) {
-                        const Match& m = matches[static_cast<std::size_t>(index[q])];
-                        use[q] = (parallaxOf(m) - plane.at(m.pixel_a - at.pixel_a)).norm() <= tolerance_px ? 1U : 0U;
-                    }
+                const std::int32_t agree = support(matches, at, index, n, plane, tolerance_px, nullptr);
+                if (agree > best) {
+                    best = support(matches, at, index, n, plane, tolerance_px, use);
                 }
             }
         }

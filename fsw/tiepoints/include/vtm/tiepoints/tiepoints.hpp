@@ -138,6 +138,8 @@ private:
                                    Span<const StationImages> images, Stats& stats) noexcept;
     [[nodiscard]] Status interEye(std::int32_t i, std::int32_t j, Eye eye, Span<const NetworkStation> stations,
                                   Span<const StationImages> images, Stats& stats) noexcept;
+    [[nodiscard]] Status searchEye(std::int32_t i, std::int32_t j, Eye eye, Span<const NetworkStation> stations,
+                                   Span<const StationImages> images, Stats& stats) noexcept;
     void buildMap(std::int32_t i, std::int32_t j, Span<const NetworkStation> stations) noexcept;
     [[nodiscard]] bool groundOf(std::int32_t i, std::int32_t k, const NetworkStation& station, Vec3& site_m) const noexcept;
     [[nodiscard]] Status addObservation(ImageRef image, std::uint32_t point, const Vec2& pixel) noexcept;
