@@ -1,0 +1,148 @@
+// Config::validate, workspaceBytes and init of the tie-point extractor (tiepoints.hpp).
+#include <new>
+
+#include "vtm/core/math.hpp"
+#include "vtm/tiepoints/tiepoints.hpp"
+#include "workspace.hpp"
+
+namespace vtm::tiepoints {
+namespace {
+
+Status invalid(const char* reason, std::int64_t value = 0) noexcept {
+    return Status(StatusCode::kInvalidConfig, reason, value);
+}
+bool inRange(double v, double lo, double hi) noexcept { return math::isFinite(v) && v >= lo && v <= hi; }
+
+terrain::HeightMapConfig mapConfig(const Config& c) noexcept {
+    terrain::HeightMapConfig m;
+    m.grid.cols = c.map_side;
+    m.grid.rows = c.map_side;
+    m.grid.cell_m = c.map_cell_m;
+    m.reducer = terrain::Reducer::kMean;
+    return m;
+}
+
+}  // namespace
+
+features::DetectorConfig Config::detectorConfig() const noexcept {
+    features::DetectorConfig d = detector;
+    d.max_width = max_width;
+    d.max_height = max_height;
+    return d;
+}
+
+features::MatcherConfig Config::matcherConfig() const noexcept {
+    features::MatcherConfig m = matcher;
+    m.max_width = max_width;
+    m.max_height = max_height;
+    return m;
+}
+
+Status Config::validate() const noexcept {
+    if (max_width < 1 || max_width > 4096 || max_height < 1 || max_height > 4096) {
+        return invalid("tiepoints.max_width/max_height: must be 1..4096", max_width);
+    }
+    if (max_stations < 1 || max_stations > kMaxStations) {
+        return invalid("tiepoints.max_stations: must be 1..64", max_stations);
+    }
+    if (max_observations < 1 || max_observations > (1 << 20)) {
+        return invalid("tiepoints.max_observations: must be 1..1048576", max_observations);
+    }
+    VTM_RETURN_IF_ERROR(detectorConfig().validate());
+    VTM_RETURN_IF_ERROR(matcherConfig().validate());
+    if (!(math::isFinite(range_min_m) && math::isFinite(range_max_m) && range_min_m > 0.0 &&
+          range_min_m < range_max_m)) {
+        return invalid("tiepoints.range_min_m/range_max_m: need 0 < min < max, finite");
+    }
+    if (!inRange(rig_margin_px, 0.0, 50.0)) {
+        return invalid("tiepoints.rig_margin_px: must be 0..50");
+    }
+    VTM_RETURN_IF_ERROR(parallax.validate());
+    VTM_RETURN_IF_ERROR(intra_grid.validate());
+    VTM_RETURN_IF_ERROR(inter_grid.validate());
+    if (!inRange(pointing_sigma_rad, 1e-9, 0.2)) {
+        return invalid("tiepoints.pointing_sigma_rad: must be (0, 0.2]");
+    }
+    if (!inRange(position_sigma_m, 0.0, 1.0)) {
+        return invalid("tiepoints.position_sigma_m: must be 0..1");
+    }
+    if (!inRange(sigma_multiplier, 1.0, 10.0)) {
+        return invalid("tiepoints.sigma_multiplier: must be 1..10");
+    }
+    if (!inRange(range_band_fraction, 1e-6, 4.0)) {
+        return invalid("tiepoints.range_band_fraction: must be (0, 4]");
+    }
+    if (!inRange(map_cell_m, 1e-6, 100.0)) {
+        return invalid("tiepoints.map_cell_m: must be (0, 100]");
+    }
+    if (map_side < 4 || map_side > 512) {
+        return invalid("tiepoints.map_side: must be 4..512", map_side);
+    }
+    if (map_fill_radius < 0 || map_fill_radius > 16) {
+        return invalid("tiepoints.map_fill_radius: must be 0..16", map_fill_radius);
+    }
+    if (ray_steps < 8 || ray_steps > 4096) {
+        return invalid("tiepoints.ray_steps: must be 8..4096", ray_steps);
+    }
+    return Status::ok();
+}
+
+std::size_t TiePointExtractor::workspaceBytes(const Config& config) noexcept {
+    if (!config.validate().isOk()) {
+        return 0U;
+    }
+    const std::size_t slots = detail::featureSlots(config);
+    const std::size_t points = detail::pointCapacity(config);
+    return features::ForstnerDetector::workspaceBytes(config.detectorConfig()) +
+           features::TemplateMatcher::workspaceBytes(config.matcherConfig()) +
+           terrain::HeightMap::workspaceBytes(mapConfig(config)) +
+           2U * detail::objectBytes<features::FeatureSet>(1U) + 2U * detail::objectBytes<features::MatchSet>(1U) +
+           Arena::arrayBytes<std::uint8_t>(static_cast<std::size_t>(features::kMaxFeatures))  // keep
+           + detail::objectBytes<features::Feature>(slots) + Arena::arrayBytes<std::int32_t>(slots)  // point ids
+           + detail::objectBytes<Vec3>(slots) + Arena::arrayBytes<std::uint8_t>(slots)                // stereo points
+           + Arena::arrayBytes<std::int32_t>(static_cast<std::size_t>(config.max_stations))           // feature counts
+           + detail::objectBytes<TieObservation>(static_cast<std::size_t>(config.max_observations)) +
+           detail::objectBytes<PairCount>(detail::pairCapacity(config)) +
+           detail::objectBytes<ImageRef>(points * detail::kMaxSightings) + Arena::arrayBytes<std::uint8_t>(points);
+}
+
+Status TiePointExtractor::init(const Config& config, Arena& arena) noexcept {
+    initialized_ = false;
+    VTM_RETURN_IF_ERROR(config.validate());
+    VTM_RETURN_IF_ERROR(detector_.init(config.detectorConfig(), arena));
+    VTM_RETURN_IF_ERROR(matcher_.init(config.matcherConfig(), arena));
+    VTM_RETURN_IF_ERROR(map_.init(mapConfig(config), arena));
+    const std::size_t slots = detail::featureSlots(config);
+    const std::size_t points = detail::pointCapacity(config);
+    detected_ = detail::construct<features::FeatureSet>(arena, 1U);
+    single_ = detail::construct<features::FeatureSet>(arena, 1U);
+    found_ = detail::construct<features::MatchSet>(arena, 1U);
+    matches_ = detail::construct<features::MatchSet>(arena, 1U);
+    keep_ = arena.allocateArray<std::uint8_t>(static_cast<std::size_t>(features::kMaxFeatures));
+    features::Feature* f = detail::construct<features::Feature>(arena, slots);
+    pointId_ = arena.allocateArray<std::int32_t>(slots);
+    Vec3* stereo = detail::construct<Vec3>(arena, slots);
+    hasStereo_ = arena.allocateArray<std::uint8_t>(slots);
+    featureCount_ = arena.allocateArray<std::int32_t>(static_cast<std::size_t>(config.max_stations));
+    TieObservation* obs = detail::construct<TieObservation>(arena, static_cast<std::size_t>(config.max_observations));
+    PairCount* pairs = detail::construct<PairCount>(arena, detail::pairCapacity(config));
+    ImageRef* seen = detail::construct<ImageRef>(arena, points * detail::kMaxSightings);
+    sightingCount_ = arena.allocateArray<std::uint8_t>(points);
+    if (detected_ == nullptr || single_ == nullptr || found_ == nullptr || matches_ == nullptr || keep_.empty() ||
+        f == nullptr || pointId_.empty() || stereo == nullptr || hasStereo_.empty() || featureCount_.empty() ||
+        obs == nullptr || pairs == nullptr || seen == nullptr || sightingCount_.empty()) {
+        return Status(StatusCode::kOutOfMemory, "TiePointExtractor::init: arena smaller than workspaceBytes(config)",
+                      static_cast<std::int64_t>(workspaceBytes(config)));
+    }
+    features_ = Span<features::Feature>(f, slots);
+    stereo_ = Span<Vec3>(stereo, slots);
+    observations_ = Span<TieObservation>(obs, static_cast<std::size_t>(config.max_observations));
+    pairs_ = Span<PairCount>(pairs, detail::pairCapacity(config));
+    sightings_ = Span<ImageRef>(seen, points * detail::kMaxSightings);
+    config_ = config;
+    initialized_ = true;
+    reset();
+    return Status::ok();
+}
+
+}  // namespace vtm::tiepoints
