@@ -17,6 +17,7 @@
 //   - the terrain octree (every node) and its height products at three levels;
 //   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures);
 //   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames;
+//   - the simulated panorama: stations, approximate poses and priors (panorama_section.cpp);
 //   - the panorama's tie points (fsw/tiepoints) on two rendered stations (tiepoints_section.cpp).
 #pragma once
 
