@@ -4,13 +4,15 @@
 // images; true poses known, approximate poses drawn from a prior with correlated attitude
 // and position (a mast turned about a wrong axis is rotated and displaced by the lever arm
 // of the eye about the mast head), pixels with Gaussian noise and optional gross outliers.
+// Only vtm::math and vtm::Random: the same network on every target (the determinism suite's
+// section "bundle" builds one too).
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "vtm/core/image_network.hpp"
+#include "vtm/core/math.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/core/rotation.hpp"
 
@@ -39,7 +41,7 @@ struct Network {
     std::vector<std::uint8_t> planted_outlier;  // per observation
 };
 
-inline double groundZ(double x, double y) { return 0.15 * std::sin(0.5 * x) * std::cos(0.4 * y); }
+inline double groundZ(double x, double y) { return 0.15 * math::sin(0.5 * x) * math::cos(0.4 * y); }
 
 inline CameraModel rigModel(const NetworkSpec& spec) {
     CameraModel m = makePinhole(spec.image_px, spec.image_px, spec.hfov_deg);
@@ -59,8 +61,8 @@ inline CameraModel rigModel(const NetworkSpec& spec) {
 
 // site_from_cam of a camera looking at azimuth az (from north towards east) and depression el.
 inline Mat3 lookRotation(double az, double el) {
-    const Vec3 f(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-    const Vec3 r(-std::sin(az), std::cos(az), 0.0);
+    const Vec3 f(math::cos(el) * math::cos(az), math::cos(el) * math::sin(az), math::sin(el));
+    const Vec3 r(-math::sin(az), math::cos(az), 0.0);
     Mat3 R;
     R.col(0) = r;
     R.col(1) = f.cross(r);
@@ -112,8 +114,8 @@ inline Network makeNetwork(const NetworkSpec& spec) {
     for (int i = 0; i < spec.candidate_points; ++i) {
         const double az = 2.0 * pi * rng.uniform01();
         const double range = 2.0 + 18.0 * rng.uniform01();
-        const double x = range * std::cos(az);
-        const double y = range * std::sin(az);
+        const double x = range * math::cos(az);
+        const double y = range * math::sin(az);
         const Vec3 X(x, y, groundZ(x, y));
         std::vector<TieObservation> seen;
         for (std::size_t s = 0; s < net.truth.size(); ++s) {
@@ -145,7 +147,7 @@ inline Network makeNetwork(const NetworkSpec& spec) {
             const bool outlier = rng.uniform01() < spec.outlier_fraction;
             if (outlier) {
                 const double phi = 2.0 * pi * rng.uniform01();
-                o.pixel_px += spec.outlier_px * Vec2(std::cos(phi), std::sin(phi));
+                o.pixel_px += spec.outlier_px * Vec2(math::cos(phi), math::sin(phi));
             }
             net.observations.push_back(o);
             net.planted_outlier.push_back(outlier ? 1U : 0U);

@@ -1116,6 +1116,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kIcp: return "icp";
         case Section::kOrbitalFix: return "orbital_fix";
         case Section::kPanorama: return "panorama";
+        case Section::kBundle: return "bundle";
     }
     return "unknown";
 }
@@ -1136,6 +1137,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kIcp: return icpSection();
         case Section::kOrbitalFix: return orbitalFixSection();
         case Section::kPanorama: return panoramaSection();
+        case Section::kBundle: return bundleSection();
     }
     return 0U;
 }

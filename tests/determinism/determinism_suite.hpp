@@ -16,7 +16,8 @@
 //   - local-entropy images and a multi-modal registration on a generated pair;
 //   - the terrain octree (every node) and its height products at three levels;
 //   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures);
-//   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames.
+//   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames;
+//   - the bundle adjustment of a small panorama network (fsw/bundle).
 #pragma once
 
 #include <cstdint>
@@ -38,11 +39,13 @@ enum class Section : std::uint8_t {
     kIcp = 11,
     kOrbitalFix = 12,
     kPanorama = 13,
+    kBundle = 14,
 };
-constexpr int kSectionCount = 14;
+constexpr int kSectionCount = 15;
 
 // Sections defined in their own files (tests/determinism/<module>_section.cpp).
 std::uint64_t panoramaSection() noexcept;  // panorama_section.cpp
+std::uint64_t bundleSection() noexcept;  // bundle_section.cpp
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;
