@@ -30,6 +30,7 @@ struct NetworkSpec {
     double outlier_px = 20.0;
     double sigma_rotation_rad = 0.01;
     double sigma_position_m = 0.02;  // besides the lever arm's share
+    bool left_eye_on_axis = false;   // the rig turns about the left eye's centre (no lever arm)
     std::uint64_t seed = 1U;
 };
 
@@ -94,7 +95,7 @@ inline Network makeNetwork(const NetworkSpec& spec) {
             const double az = 2.0 * pi * (a + 0.5 * tier) / spec.azimuths;
             const double el = (15.0 + 28.0 * tier) * pi / 180.0;
             s.site_from_a.R = lookRotation(az, el);
-            const Vec3 lever = s.site_from_a.R * Vec3(-0.21, 0.0, 0.1);
+            const Vec3 lever = spec.left_eye_on_axis ? Vec3::Zero() : Vec3(s.site_from_a.R * Vec3(-0.21, 0.0, 0.1));
             s.site_from_a.t_m = head + lever;
             s.prior_covariance = priorCovariance(lever, spec.sigma_rotation_rad, spec.sigma_position_m);
             net.truth.push_back(s);
