@@ -63,19 +63,10 @@ void BundleAdjuster::publishResiduals(BundleResult& result) noexcept {
     }
 }
 
-Status BundleAdjuster::publish(BundleResult& result) noexcept {
-    // The last linearisation, undamped: its reduced system's inverse is the stations'
-    // covariance; the points' follows from it (V^-1 + V^-1 W^T Z W V^-1).
-    result.cost_after = linearise();
-    buildReducedSystem(0.0);
-    const std::int64_t bad = choleskyInPlace(reduced_.data(), dim_, 1e-14);
-    if (bad >= 0) {
-        return Status(StatusCode::kDegenerate,
-                      "bundle.adjust: reduced camera system singular at the solution (a station parameter that neither "
-                      "points nor prior determine; detail 6 station + parameter)", bad);
-    }
+// Z = S^-1 column by column from the factor in reduced_; columns of fixed parameters zero.
+void BundleAdjuster::invertReducedSystem() noexcept {
     const std::size_t n = dim_;
-    for (std::size_t c = 0; c < n; ++c) {  // Z column by column
+    for (std::size_t c = 0; c < n; ++c) {
         for (std::size_t i = 0; i < n; ++i) {
             step_[i] = i == c ? 1.0 : 0.0;
         }
@@ -85,8 +76,10 @@ Status BundleAdjuster::publish(BundleResult& result) noexcept {
             inverse_[i * n + c] = fixedColumn ? 0.0 : step_[i];
         }
     }
-    double weighted = 0.0;
-    std::int64_t redundancy = 0;
+}
+
+// Adjusted poses and covariances; the prior's share of the weighted SSR and redundancy.
+void BundleAdjuster::publishStations(double& weighted, std::int64_t& redundancy) noexcept {
     for (std::size_t s = 0; s < stationCount_; ++s) {
         const StationWork& sw = stationWork_[s];
         StationSolution& out = stationOut_[s];
@@ -94,13 +87,18 @@ Status BundleAdjuster::publish(BundleResult& result) noexcept {
         out.correction = sw.x;
         Mat6 g = Mat6::Identity();  // covariance of x -> of the perturbation about the adjusted pose
         g.topLeftCorner<3, 3>() = leftJacobian(sw.x.head<3>());
-        out.covariance = g * block6(inverse_.data(), n, s, s) * g.transpose();
+        out.covariance = g * block6(inverse_.data(), dim_, s, s) * g.transpose();
         weighted += sw.x.dot(sw.prior_info * sw.x);
         for (int k = 0; k < 6; ++k) {
             const bool prior = config_.use_pointing_prior && sw.fixed[k] == 0U;
             redundancy += (prior ? 1 : 0) - (sw.fixed[k] == 0U ? 1 : 0);
         }
     }
+}
+
+// Positions, covariances (V^-1 + V^-1 W^T Z W V^-1) and inlier counts; the images' share of
+// the weighted SSR and redundancy.
+void BundleAdjuster::publishPoints(BundleResult& result, double& weighted, std::int64_t& redundancy) noexcept {
     for (std::size_t p = 0; p < pointCount_; ++p) {
         const PointWork& pw = pointWork_[p];
         PointSolution& out = pointOut_[p];
@@ -114,7 +112,7 @@ Status BundleAdjuster::publish(BundleResult& result) noexcept {
         Mat3 m = Mat3::Zero();
         for (std::size_t a = 0; a < groups; ++a) {
             for (std::size_t b = 0; b < groups; ++b) {
-                m += groups_[a].W.transpose() * block6(inverse_.data(), n, groups_[a].station, groups_[b].station) * groups_[b].W;
+                m += groups_[a].W.transpose() * block6(inverse_.data(), dim_, groups_[a].station, groups_[b].station) * groups_[b].W;
             }
         }
         out.covariance = pw.V_inv + pw.V_inv * m * pw.V_inv;
@@ -129,6 +127,24 @@ Status BundleAdjuster::publish(BundleResult& result) noexcept {
         redundancy -= 3;
         ++result.points_adjusted;
     }
+}
+
+Status BundleAdjuster::publish(BundleResult& result) noexcept {
+    // The last linearisation, undamped: its reduced system's inverse is the stations'
+    // covariance; the points' follows from it.
+    result.cost_after = linearise();
+    buildReducedSystem(0.0);
+    const std::int64_t bad = choleskyInPlace(reduced_.data(), dim_, 1e-14);
+    if (bad >= 0) {
+        return Status(StatusCode::kDegenerate,
+                      "bundle.adjust: reduced camera system singular at the solution (a station parameter that neither "
+                      "points nor prior determine; detail 6 station + parameter)", bad);
+    }
+    invertReducedSystem();
+    double weighted = 0.0;
+    std::int64_t redundancy = 0;
+    publishStations(weighted, redundancy);
+    publishPoints(result, weighted, redundancy);
     publishResiduals(result);
     result.points_excluded = result.single_sighting + result.not_triangulated + result.behind_camera + result.too_few_inliers;
     result.sigma0 = redundancy > 0 ? math::sqrt(weighted / static_cast<double>(redundancy)) : 0.0;

@@ -175,7 +175,6 @@ private:
     struct PointWork;
     struct ObservationWork;
     struct StationGroup;
-    struct Problem;
 
     [[nodiscard]] Status checkInput(Span<const NetworkStation> stations, Span<const TieObservation> observations,
                                     std::uint32_t point_count) const noexcept;
@@ -192,6 +191,9 @@ private:
     [[nodiscard]] Status runRound(BundleResult& result) noexcept;
     [[nodiscard]] bool rejectOutliers(BundleResult& result) noexcept;
     [[nodiscard]] Status publish(BundleResult& result) noexcept;
+    void invertReducedSystem() noexcept;
+    void publishStations(double& weighted, std::int64_t& redundancy) noexcept;
+    void publishPoints(BundleResult& result, double& weighted, std::int64_t& redundancy) noexcept;
     void publishResiduals(BundleResult& result) noexcept;
     [[nodiscard]] double imageRms(bool initial) const noexcept;
 
