@@ -34,14 +34,16 @@ bool priorInformation(const Mat6& c, const std::uint8_t (&fixed)[6], Mat6& info)
     if (choleskyInPlace(l, 6U, 1e-12) >= 0) {
         return false;
     }
+    Mat6 inverse;
     for (int col = 0; col < 6; ++col) {  // A^-1 column by column
         double e[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         e[col] = 1.0;
         choleskySolve(l, 6U, e);
         for (int row = 0; row < 6; ++row) {
-            info(row, col) = (fixed[row] != 0U || fixed[col] != 0U) ? 0.0 : e[row];
+            inverse(row, col) = (fixed[row] != 0U || fixed[col] != 0U) ? 0.0 : e[row];
         }
     }
+    info = inverse;
     return true;
 }
 
