@@ -24,7 +24,7 @@ struct NetworkSpec {
     double hfov_deg = 70.0;
     std::uint16_t image_px = 512U;
     bool cahvor = false;            // CAHVOR with radial distortion instead of a pinhole
-    int candidate_points = 900;     // ground points drawn; those seen twice are kept
+    int candidate_points = 450;     // ground points drawn; those seen twice are kept
     double pixel_sigma = 0.3;
     double outlier_fraction = 0.0;  // observations moved by outlier_px in a random direction
     double outlier_px = 20.0;
