@@ -1117,6 +1117,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kOrbitalFix: return "orbital_fix";
         case Section::kPanorama: return "panorama";
         case Section::kTiepoints: return "tiepoints";
+        case Section::kBundle: return "bundle";
     }
     return "unknown";
 }
@@ -1138,6 +1139,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kOrbitalFix: return orbitalFixSection();
         case Section::kPanorama: return panoramaSection();
         case Section::kTiepoints: return tiepointsSection();
+        case Section::kBundle: return bundleSection();
     }
     return 0U;
 }

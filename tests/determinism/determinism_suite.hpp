@@ -18,7 +18,8 @@
 //   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures);
 //   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames;
 //   - the simulated panorama: stations, approximate poses and priors (panorama_section.cpp);
-//   - the panorama's tie points (fsw/tiepoints) on two rendered stations (tiepoints_section.cpp).
+//   - the panorama's tie points (fsw/tiepoints) on two rendered stations (tiepoints_section.cpp);
+//   - the bundle adjustment of a small panorama network (fsw/bundle, bundle_section.cpp).
 #pragma once
 
 #include <cstdint>
@@ -41,12 +42,14 @@ enum class Section : std::uint8_t {
     kOrbitalFix = 12,
     kPanorama = 13,
     kTiepoints = 14,
+    kBundle = 15,
 };
-constexpr int kSectionCount = 15;
+constexpr int kSectionCount = 16;
 
 // Sections defined in their own files (tests/determinism/<module>_section.cpp).
 std::uint64_t panoramaSection() noexcept;   // panorama_section.cpp
 std::uint64_t tiepointsSection() noexcept;  // tiepoints_section.cpp
+std::uint64_t bundleSection() noexcept;     // bundle_section.cpp
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;

@@ -1,0 +1,182 @@
+// Configuration checks, the workspace formula and init() of the bundle adjuster.
+#include <cmath>
+#include <new>
+
+#include "bundle_internal.hpp"
+
+namespace vtm::bundle {
+namespace {
+
+Status invalid(const char* reason, std::int64_t value) noexcept {
+    return Status(StatusCode::kInvalidConfig, reason, value);
+}
+
+bool positive(double v) noexcept { return std::isfinite(v) && v > 0.0; }
+
+// Arena bytes of `count` objects of T and the objects themselves, value-initialised in place
+// (the records hold Eigen matrices, which are not trivial: Arena::allocateArray refuses
+// them; the same pattern as fsw/refine's pair_refiner.cpp).
+template <typename T>
+constexpr std::size_t alignmentOf() noexcept {
+    return alignof(T) > Arena::kDefaultAlignment ? alignof(T) : Arena::kDefaultAlignment;
+}
+
+template <typename T>
+constexpr std::size_t objectBytes(std::size_t count) noexcept {
+    return Arena::blockBytes(count * sizeof(T), alignmentOf<T>());
+}
+
+template <typename T>
+Span<T> construct(Arena& arena, std::size_t count) noexcept {
+    void* block = arena.allocate(count * sizeof(T), alignmentOf<T>());
+    if (block == nullptr) {
+        return Span<T>();
+    }
+    T* objects = static_cast<T*>(block);
+    for (std::size_t i = 0U; i < count; ++i) {  // bound: count, from the config
+        ::new (static_cast<void*>(objects + i)) T();
+    }
+    return Span<T>(objects, count);
+}
+
+std::int64_t milli(double v) noexcept {
+    return std::isfinite(v) && std::fabs(v) < 1e15 ? static_cast<std::int64_t>(v * 1000.0) : -1;
+}
+
+Status validateCapacities(const BundleConfig& c) noexcept {
+    if (c.max_stations < 2 || c.max_stations > kMaxStationsLimit) {
+        return invalid("bundle.max_stations: must be 2..64", c.max_stations);
+    }
+    if (c.max_points < 1 || c.max_points > kMaxPointsLimit) {
+        return invalid("bundle.max_points: must be 1..65536", c.max_points);
+    }
+    if (c.max_observations < 2 || c.max_observations > kMaxObservationsLimit) {
+        return invalid("bundle.max_observations: must be 2..1048576", c.max_observations);
+    }
+    if (c.datum_station < -1 || c.datum_station >= c.max_stations) {
+        return invalid("bundle.datum_station: must be -1 or 0..max_stations - 1", c.datum_station);
+    }
+    if (!c.use_pointing_prior && c.datum_station < 0) {
+        return invalid("bundle.datum_station: needed (>= 0) when use_pointing_prior is false", c.datum_station);
+    }
+    return Status::ok();
+}
+
+Status validateWeights(const BundleConfig& c) noexcept {
+    if (!positive(c.sigma_px)) {
+        return invalid("bundle.sigma_px: must be > 0 (milli-pixels in detail)", milli(c.sigma_px));
+    }
+    if (c.loss != RobustLoss::kHuber && c.loss != RobustLoss::kCauchy) {
+        return invalid("bundle.loss: must be kHuber or kCauchy", static_cast<std::int64_t>(c.loss));
+    }
+    if (!positive(c.robust_k)) {
+        return invalid("bundle.robust_k: must be > 0 (milli in detail)", milli(c.robust_k));
+    }
+    if (!positive(c.outlier_sigmas) || c.outlier_sigmas <= c.robust_k) {
+        return invalid("bundle.outlier_sigmas: must be > robust_k (milli in detail)", milli(c.outlier_sigmas));
+    }
+    if (c.max_rejection_rounds < 0 || c.max_rejection_rounds > 10) {
+        return invalid("bundle.max_rejection_rounds: must be 0..10", c.max_rejection_rounds);
+    }
+    return Status::ok();
+}
+
+Status validateSolver(const BundleConfig& c) noexcept {
+    if (c.max_iterations < 1 || c.max_iterations > 500) {
+        return invalid("bundle.max_iterations: must be 1..500", c.max_iterations);
+    }
+    if (c.max_attempts < 1 || c.max_attempts > 40) {
+        return invalid("bundle.max_attempts: must be 1..40", c.max_attempts);
+    }
+    if (!positive(c.initial_lambda) || c.initial_lambda > 1e6) {
+        return invalid("bundle.initial_lambda: must be in (0, 1e6] (milli in detail)", milli(c.initial_lambda));
+    }
+    if (!positive(c.converge_rotation_rad)) {
+        return invalid("bundle.converge_rotation_rad: must be > 0", milli(c.converge_rotation_rad));
+    }
+    if (!positive(c.converge_translation_m)) {
+        return invalid("bundle.converge_translation_m: must be > 0", milli(c.converge_translation_m));
+    }
+    if (!positive(c.min_parallax_rad) || c.min_parallax_rad >= 1.0) {
+        return invalid("bundle.min_parallax_rad: must be in (0, 1) (milli in detail)", milli(c.min_parallax_rad));
+    }
+    return Status::ok();
+}
+
+}  // namespace
+
+Status BundleConfig::validate() const noexcept {
+    VTM_RETURN_IF_ERROR(validateCapacities(*this));
+    VTM_RETURN_IF_ERROR(validateWeights(*this));
+    return validateSolver(*this);
+}
+
+std::size_t BundleAdjuster::workspaceBytes(const BundleConfig& config) noexcept {
+    if (!config.validate().isOk()) {
+        return 0U;
+    }
+    const auto s = static_cast<std::size_t>(config.max_stations);
+    const auto p = static_cast<std::size_t>(config.max_points);
+    const auto o = static_cast<std::size_t>(config.max_observations);
+    const std::size_t dim = 6U * s;
+    // Term by term, in the order init() carves them.
+    return objectBytes<StationWork>(s)             // stations: poses, prior information, U, g
+           + objectBytes<StationSolution>(s)       // stations published
+           + objectBytes<PointWork>(p)             // points: positions, V, g
+           + objectBytes<PointSolution>(p)         // points published
+           + Arena::arrayBytes<std::uint32_t>(o)         // observation order by point
+           + Arena::arrayBytes<std::uint32_t>(p + 1U)    // first observation of each point
+           + objectBytes<ObservationWork>(o)       // linearisation per observation
+           + objectBytes<ObservationResidual>(o)   // residuals published
+           + objectBytes<StationGroup>(s)          // one point's stations (scratch)
+           + Arena::arrayBytes<double>(dim * dim)        // reduced system / its Cholesky factor
+           + Arena::arrayBytes<double>(dim * dim)        // its inverse (covariances)
+           + Arena::arrayBytes<double>(dim)              // right-hand side
+           + Arena::arrayBytes<double>(dim);             // step
+}
+
+Status BundleAdjuster::init(const BundleConfig& config, Arena& arena) noexcept {
+    initialized_ = false;
+    VTM_RETURN_IF_ERROR(config.validate());
+    config_ = config;
+    const auto s = static_cast<std::size_t>(config.max_stations);
+    const auto p = static_cast<std::size_t>(config.max_points);
+    const auto o = static_cast<std::size_t>(config.max_observations);
+    const std::size_t dim = 6U * s;
+    stationWork_ = construct<StationWork>(arena, s);
+    stationOut_ = construct<StationSolution>(arena, s);
+    pointWork_ = construct<PointWork>(arena, p);
+    pointOut_ = construct<PointSolution>(arena, p);
+    order_ = arena.allocateArray<std::uint32_t>(o);
+    pointFirst_ = arena.allocateArray<std::uint32_t>(p + 1U);
+    obsWork_ = construct<ObservationWork>(arena, o);
+    obsOut_ = construct<ObservationResidual>(arena, o);
+    groups_ = construct<StationGroup>(arena, s);
+    reduced_ = arena.allocateArray<double>(dim * dim);
+    inverse_ = arena.allocateArray<double>(dim * dim);
+    rhs_ = arena.allocateArray<double>(dim);
+    step_ = arena.allocateArray<double>(dim);
+    if (stationWork_.size() != s || stationOut_.size() != s || pointWork_.size() != p || pointOut_.size() != p ||
+        order_.size() != o || pointFirst_.size() != p + 1U || obsWork_.size() != o || obsOut_.size() != o ||
+        groups_.size() != s || reduced_.size() != dim * dim || inverse_.size() != dim * dim || rhs_.size() != dim ||
+        step_.size() != dim) {
+        return Status(StatusCode::kOutOfMemory, "BundleAdjuster::init: arena smaller than workspaceBytes(config)",
+                      static_cast<std::int64_t>(workspaceBytes(config)));
+    }
+    initialized_ = true;
+    return Status::ok();
+}
+
+Span<const StationSolution> BundleAdjuster::stations() const noexcept {
+    return Span<const StationSolution>(stationOut_.data(), stationCount_);
+}
+
+Span<const PointSolution> BundleAdjuster::points() const noexcept {
+    return Span<const PointSolution>(pointOut_.data(), pointCount_);
+}
+
+Span<const ObservationResidual> BundleAdjuster::residuals() const noexcept {
+    return Span<const ObservationResidual>(obsOut_.data(), observations_.size());
+}
+
+}  // namespace vtm::bundle
