@@ -1115,6 +1115,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kOctree: return "octree";
         case Section::kIcp: return "icp";
         case Section::kOrbitalFix: return "orbital_fix";
+        case Section::kKriging: return "kriging";
     }
     return "unknown";
 }
@@ -1134,6 +1135,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kOctree: return octreeSection();
         case Section::kIcp: return icpSection();
         case Section::kOrbitalFix: return orbitalFixSection();
+        case Section::kKriging: return krigingSection();
     }
     return 0U;
 }

@@ -16,7 +16,9 @@
 //   - local-entropy images and a multi-modal registration on a generated pair;
 //   - the terrain octree (every node) and its height products at three levels;
 //   - point-to-plane ICP of two generated terrain clouds (pose, covariance, figures);
-//   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames.
+//   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames;
+//   - ordinary kriging of scattered samples and the orthophoto of the kriged grid
+//     (fsw/kriging; kriging_section.cpp).
 #pragma once
 
 #include <cstdint>
@@ -37,8 +39,9 @@ enum class Section : std::uint8_t {
     kOctree = 10,
     kIcp = 11,
     kOrbitalFix = 12,
+    kKriging = 13,
 };
-constexpr int kSectionCount = 13;
+constexpr int kSectionCount = 14;
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;
@@ -46,5 +49,8 @@ const char* sectionName(Section s) noexcept;
 // Hash (64-bit FNV-1a over the little-endian bytes of each value's bit pattern, so that
 // byte order does not matter) of one section of the suite.
 std::uint64_t sectionHash(Section s) noexcept;
+
+// Sections kept in files of their own (tests/determinism/<module>_section.cpp).
+std::uint64_t krigingSection() noexcept;
 
 }  // namespace vtm::determinism
