@@ -5,6 +5,43 @@
 #include "vtm/kriging/ordinary_kriging.hpp"
 
 namespace vtm::kriging {
+namespace {
+
+// The system of one node in covariance form, divided by the sill:
+//   [C 1; 1' 0] [w; nu] = [c0; 1],  C_ij = C(|s_i - s_j|) / sill,  c0_i = C(|s_i - x|) / sill.
+void fillSystem(const icp::Neighbours& nb, Span<const double> north_m, Span<const double> east_m, double node_north_m,
+                double node_east_m, const Variogram& variogram, KrigingSystem& s,
+                double (&c0)[kMaxSystemSize]) noexcept {
+    const double sill = variogram.sillM2();
+    const std::int32_t m = nb.count;
+    s.n = m + 1;
+    for (std::int32_t i = 0; i < m; ++i) {
+        const auto si = static_cast<std::size_t>(nb.index[i]);
+        for (std::int32_t j = i; j < m; ++j) {
+            const auto sj = static_cast<std::size_t>(nb.index[j]);
+            const double dn = north_m[si] - north_m[sj];
+            const double de = east_m[si] - east_m[sj];
+            const double c = variogram.covariance(std::sqrt(dn * dn + de * de)) / sill;
+            s.a[i][j] = c;
+            s.a[j][i] = c;
+        }
+        s.a[i][m] = 1.0;
+        s.a[m][i] = 1.0;
+        const double dn = north_m[si] - node_north_m;
+        const double de = east_m[si] - node_east_m;
+        c0[i] = variogram.covariance(std::sqrt(dn * dn + de * de)) / sill;
+        s.b[i] = c0[i];
+    }
+    s.a[m][m] = 0.0;
+    s.b[m] = 1.0;
+}
+
+bool usable(const Variogram& v) noexcept {
+    return v.partial_sill_m2 > 0.0 && v.nugget_m2 >= 0.0 && v.range_m > 0.0 && std::isfinite(v.sillM2()) &&
+           std::isfinite(v.range_m);
+}
+
+}  // namespace
 
 Status OrdinaryKriging::init(const KrigingConfig& config, Arena& arena) noexcept {
     VTM_RETURN_IF_ERROR(config.validate());
@@ -125,8 +162,7 @@ Status OrdinaryKriging::estimateAt(double north_m, double east_m, const Variogra
         return Status(StatusCode::kInvalidArgument, "kriging: estimate position not finite");
     }
     const double sill = variogram.sillM2();
-    if (!(variogram.partial_sill_m2 > 0.0) || !(variogram.nugget_m2 >= 0.0) || !(variogram.range_m > 0.0) ||
-        !std::isfinite(sill) || !std::isfinite(variogram.range_m)) {
+    if (!usable(variogram)) {
         return Status(StatusCode::kInvalidArgument, "kriging: variogram needs partial sill > 0, nugget >= 0, range > 0");
     }
     out = NodeEstimate{};
@@ -143,30 +179,10 @@ Status OrdinaryKriging::estimateAt(double north_m, double east_m, const Variogra
         out.reason = NodeReason::kNoSamples;
         return Status::ok();
     }
-    // Covariance form, divided by the sill: [C 1; 1' 0] [w; nu] = [c0; 1].
     KrigingSystem s;
-    const std::int32_t m = nb.count;
-    s.n = m + 1;
     double c0[kMaxSystemSize]{};
-    for (std::int32_t i = 0; i < m; ++i) {
-        const auto si = static_cast<std::size_t>(nb.index[i]);
-        for (std::int32_t j = i; j < m; ++j) {
-            const auto sj = static_cast<std::size_t>(nb.index[j]);
-            const double dn = north_m_[si] - north_m_[sj];
-            const double de = east_m_[si] - east_m_[sj];
-            const double c = variogram.covariance(std::sqrt(dn * dn + de * de)) / sill;
-            s.a[i][j] = c;
-            s.a[j][i] = c;
-        }
-        s.a[i][m] = 1.0;
-        s.a[m][i] = 1.0;
-        const double dn = north_m_[si] - north_m;
-        const double de = east_m_[si] - east_m;
-        c0[i] = variogram.covariance(std::sqrt(dn * dn + de * de)) / sill;
-        s.b[i] = c0[i];
-    }
-    s.a[m][m] = 0.0;
-    s.b[m] = 1.0;
+    fillSystem(nb, north_m_, east_m_, north_m, east_m, variogram, s, c0);
+    const std::int32_t m = nb.count;
     double x[kMaxSystemSize]{};
     if (!solveKrigingSystem(s, x)) {
         out.reason = NodeReason::kSingular;
