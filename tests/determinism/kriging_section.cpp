@@ -73,7 +73,7 @@ void hashOrthophoto(const kriging::KrigedMap& map, KrigingHasher& h) noexcept {
     static std::uint8_t grey[32 * 32];
     static std::uint16_t source[32 * 32];
     kriging::OrthophotoStats stats;
-    const Status s = kriging::buildOrthophoto(map.grid(), map.elevations(), Span<const NetworkStation>(stations, 2),
+    const Status s = kriging::buildOrthophoto(kriging::OrthophotoConfig{}, map.grid(), map.elevations(), Span<const NetworkStation>(stations, 2),
                                               Span<const kriging::StationImages>(images, 2),
                                               ImageView<std::uint8_t>(grey, 32, 32),
                                               ImageView<std::uint16_t>(source, 32, 32), &stats);

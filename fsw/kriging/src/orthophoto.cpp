@@ -1,6 +1,7 @@
 // The orthophoto: per node, the grey value of the image that sees it nearest its centre.
 #include <cmath>
 
+#include "grid_occlusion.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/kriging/orthophoto.hpp"
 
@@ -54,8 +55,25 @@ Status checkInputs(const terrain::GridConfig& grid, Span<const float> elevation_
     return Status::ok();
 }
 
-// The image that sees the site point nearest its centre.
-Pick pickImage(const Vec3& point_site_m, Span<const NetworkStation> stations, Span<const StationImages> images) noexcept {
+// The projection centre of an eye in the site frame (pinhole: the frame's origin; CAHV(OR): C).
+Vec3 eyeCentreSite(const RigidPose& site_from_eye, const CameraModel& model) noexcept {
+    const Vec3 centre = model.kind == CameraModelKind::kPinholeBrown ? Vec3::Zero()
+                                                                      : Vec3(model.c[0], model.c[1], model.c[2]);
+    return transformPoint(site_from_eye, centre);
+}
+
+struct Scene {
+    const OrthophotoConfig* config = nullptr;
+    const detail::ElevationSurface* surface = nullptr;
+    Span<const NetworkStation> stations{};
+    Span<const StationImages> images{};
+};
+
+// The image that sees the site point nearest its centre (and, with the occlusion test, whose
+// line of sight to the point is clear).
+Pick pickImage(const Vec3& point_site_m, const Scene& scene, std::int32_t& occluded_views) noexcept {
+    const Span<const NetworkStation> stations = scene.stations;
+    const Span<const StationImages> images = scene.images;
     Pick best;
     for (std::size_t s = 0; s < stations.size(); ++s) {
         for (std::int32_t e = 0; e < 2; ++e) {
@@ -77,11 +95,18 @@ Pick pickImage(const Vec3& point_site_m, Span<const NetworkStation> stations, Sp
             const double dx = px.x() - 0.5 * w1;
             const double dy = px.y() - 0.5 * h1;
             const double d2 = dx * dx + dy * dy;
-            if (best.source == kNoSource || d2 < best.distance2) {
-                best.source = static_cast<std::uint16_t>(2U * s + static_cast<std::size_t>(e));
-                best.pixel = px;
-                best.distance2 = d2;
+            if (best.source != kNoSource && !(d2 < best.distance2)) {
+                continue;  // cannot win: no need to test its line of sight
             }
+            if (scene.config->occlusion_test &&
+                detail::occluded(*scene.surface, point_site_m, eyeCentreSite(pose, modelOfEye(stations[s], eyeOf(e))),
+                                 scene.config->occlusion_margin_m)) {
+                ++occluded_views;
+                continue;
+            }
+            best.source = static_cast<std::uint16_t>(2U * s + static_cast<std::size_t>(e));
+            best.pixel = px;
+            best.distance2 = d2;
         }
     }
     return best;
@@ -106,11 +131,24 @@ std::uint8_t bilinear(const ImageView<const std::uint8_t>& view, const Vec2& px)
 
 }  // namespace
 
-Status buildOrthophoto(const terrain::GridConfig& grid, Span<const float> elevation_m,
+Status OrthophotoConfig::validate() const noexcept {
+    if (!std::isfinite(occlusion_margin_m) || occlusion_margin_m < 0.0) {
+        return Status(StatusCode::kInvalidConfig, "orthophoto.occlusion_margin_m: must be finite and >= 0");
+    }
+    return Status::ok();
+}
+
+Status buildOrthophoto(const OrthophotoConfig& config, const terrain::GridConfig& grid, Span<const float> elevation_m,
                        Span<const NetworkStation> stations, Span<const StationImages> images,
                        const ImageView<std::uint8_t>& grey, const ImageView<std::uint16_t>& source,
                        OrthophotoStats* stats) noexcept {
+    VTM_RETURN_IF_ERROR(config.validate());
     VTM_RETURN_IF_ERROR(checkInputs(grid, elevation_m, stations, images, grey, source));
+    detail::ElevationSurface surface;
+    surface.grid = grid;
+    surface.elevation_m = elevation_m;
+    surface.highest_m = config.occlusion_test ? detail::highestElevation(elevation_m) : 0.0;
+    const Scene scene{&config, &surface, stations, images};
     OrthophotoStats st;
     for (std::int32_t row = 0; row < grid.rows; ++row) {
         const double north = grid.north_edge_m - (static_cast<double>(row) + 0.5) * grid.cell_m;
@@ -124,7 +162,7 @@ Status buildOrthophoto(const terrain::GridConfig& grid, Span<const float> elevat
                 ++st.no_elevation;
                 continue;
             }
-            const Pick pick = pickImage(Vec3(north, east, -static_cast<double>(h)), stations, images);
+            const Pick pick = pickImage(Vec3(north, east, -static_cast<double>(h)), scene, st.occluded_views);
             if (pick.source == kNoSource) {
                 ++st.not_seen;
                 continue;
