@@ -1,12 +1,14 @@
 // Determinism section "kriging" (fsw/kriging, docs/kriging.md): the variogram of 600
 // scattered samples of an analytic surface (random pair subsample and all pairs), ordinary
 // kriging of a 32 x 32 grid (every elevation, variance and reason) and the orthophoto of
-// the kriged grid from two nadir pinhole images of a generated texture (grey and source).
+// the kriged grid from two nadir pinhole images of a generated texture, then with a low
+// oblique third view that the relief partly hides (grey, source, occluded views).
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 
 #include "determinism_suite.hpp"
+#include "sim/render.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/math.hpp"
@@ -48,7 +50,8 @@ void hashVariogram(const Status& s, const kriging::Variogram& v, KrigingHasher& 
     h.addDouble(v.fit_cost);
 }
 
-// The orthophoto of the kriged grid from two nadir pinholes 3 m up over a generated texture.
+// The orthophoto of the kriged grid from two nadir pinholes 3 m up over a generated texture,
+// then with a third, low oblique view whose lines of sight the relief cuts (occlusion test).
 void hashOrthophoto(const kriging::KrigedMap& map, KrigingHasher& h) noexcept {
     constexpr std::int32_t kW = 64;
     static std::uint8_t texture[2][kW * kW];
@@ -59,30 +62,34 @@ void hashOrthophoto(const kriging::KrigedMap& map, KrigingHasher& h) noexcept {
             }
         }
     }
-    NetworkStation stations[2];
-    kriging::StationImages images[2];
-    for (std::int32_t i = 0; i < 2; ++i) {
+    NetworkStation stations[3];
+    kriging::StationImages images[3];
+    for (std::int32_t i = 0; i < 3; ++i) {
         stations[i].rig.model_a = makePinhole(kW, kW, 80.0);
         stations[i].rig.model_b = stations[i].rig.model_a;
         stations[i].rig.b_from_a.t_m = Vec3(-0.3, 0.0, 0.0);
         // Optical axis down (site +z), image +x east, +y south.
         stations[i].site_from_a.R << 0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0;
         stations[i].site_from_a.t_m = Vec3(4.0, 2.5 + 3.0 * i, -3.0);
-        images[i].eye[0] = ImageView<const std::uint8_t>(texture[i], kW, kW);
+        images[i].eye[0] = ImageView<const std::uint8_t>(texture[i % 2], kW, kW);
     }
+    stations[2].site_from_a = sim::poseLookingAt(Vec3(4.0, -1.0, -0.4), Vec3(4.0, 4.0, 0.3));
     static std::uint8_t grey[32 * 32];
     static std::uint16_t source[32 * 32];
-    kriging::OrthophotoStats stats;
-    const Status s = kriging::buildOrthophoto(kriging::OrthophotoConfig{}, map.grid(), map.elevations(), Span<const NetworkStation>(stations, 2),
-                                              Span<const kriging::StationImages>(images, 2),
-                                              ImageView<std::uint8_t>(grey, 32, 32),
-                                              ImageView<std::uint16_t>(source, 32, 32), &stats);
-    h.addI64(static_cast<std::int64_t>(s.code()));
-    h.addI64(stats.filled);
-    h.addI64(stats.not_seen);
-    for (std::int32_t k = 0; k < 32 * 32; ++k) {
-        h.addU64(grey[k]);
-        h.addU64(source[k]);
+    for (const std::size_t count : {std::size_t{2}, std::size_t{3}}) {
+        kriging::OrthophotoStats stats;
+        const Status s = kriging::buildOrthophoto(
+            kriging::OrthophotoConfig{}, map.grid(), map.elevations(), Span<const NetworkStation>(stations, count),
+            Span<const kriging::StationImages>(images, count), ImageView<std::uint8_t>(grey, 32, 32),
+            ImageView<std::uint16_t>(source, 32, 32), &stats);
+        h.addI64(static_cast<std::int64_t>(s.code()));
+        h.addI64(stats.filled);
+        h.addI64(stats.not_seen);
+        h.addI64(stats.occluded_views);
+        for (std::int32_t k = 0; k < 32 * 32; ++k) {
+            h.addU64(grey[k]);
+            h.addU64(source[k]);
+        }
     }
 }
 
