@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "sim/render.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/arena.hpp"
 
@@ -41,6 +42,22 @@ inline const sim::Terrain& smallMarsTerrain() {
         EXPECT_TRUE(s.isOk()) << s.reason();
     }
     return terrain;
+}
+
+// Lighting and sensor whose grey values follow the Lambertian model alone: no cast
+// shadows, no noise, no vignetting.
+inline sim::Lighting plainLighting() {
+    sim::Lighting l;
+    l.shadows = false;
+    return l;
+}
+
+inline sim::SensorParams plainSensor() {
+    sim::SensorParams s;
+    s.read_noise_e = 0.0;
+    s.shot_noise = false;
+    s.vignetting = 0.0;
+    return s;
 }
 
 }  // namespace vtm::kriging::test
