@@ -168,6 +168,9 @@ TEST(Orthophoto, GreyValuesMatchTheTruthAndBordersShowNoSeam) {
     const auto true_z = elevationGrid([&terrain](double n, double e) { return terrain.elevationAt(n, e); });
     const Ortho o = ortho(true_z);
     EXPECT_EQ(o.stats.filled, g.cols * g.rows);
+    const Ortho again = ortho(true_z);  // same bits twice
+    EXPECT_EQ(again.grey, o.grey);
+    EXPECT_EQ(again.source, o.source);
     std::vector<double> truth;
     for (std::int32_t row = 0; row < g.rows; ++row) {
         for (std::int32_t col = 0; col < g.cols; ++col) {
