@@ -2,6 +2,7 @@
 // projection centre pass under the elevation grid's surface? (docs/kriging.md "Orthophoto")
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "vtm/core/eigen.hpp"

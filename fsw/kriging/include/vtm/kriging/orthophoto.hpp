@@ -13,6 +13,7 @@
 // every target.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "vtm/core/image.hpp"
