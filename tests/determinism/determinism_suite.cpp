@@ -1118,6 +1118,7 @@ const char* sectionName(Section s) noexcept {
         case Section::kPanorama: return "panorama";
         case Section::kTiepoints: return "tiepoints";
         case Section::kBundle: return "bundle";
+        case Section::kKriging: return "kriging";
     }
     return "unknown";
 }
@@ -1140,6 +1141,7 @@ std::uint64_t sectionHash(Section s) noexcept {
         case Section::kPanorama: return panoramaSection();
         case Section::kTiepoints: return tiepointsSection();
         case Section::kBundle: return bundleSection();
+        case Section::kKriging: return krigingSection();
     }
     return 0U;
 }

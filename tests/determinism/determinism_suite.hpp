@@ -19,7 +19,9 @@
 //   - the descent's orbital fix (fsw/app OrbitalLocator) on a generated map and frames;
 //   - the simulated panorama: stations, approximate poses and priors (panorama_section.cpp);
 //   - the panorama's tie points (fsw/tiepoints) on two rendered stations (tiepoints_section.cpp);
-//   - the bundle adjustment of a small panorama network (fsw/bundle, bundle_section.cpp).
+//   - the bundle adjustment of a small panorama network (fsw/bundle, bundle_section.cpp);
+//   - ordinary kriging of scattered samples and the orthophoto of the kriged grid
+//     (fsw/kriging; kriging_section.cpp).
 #pragma once
 
 #include <cstdint>
@@ -43,13 +45,15 @@ enum class Section : std::uint8_t {
     kPanorama = 13,
     kTiepoints = 14,
     kBundle = 15,
+    kKriging = 16,
 };
-constexpr int kSectionCount = 16;
+constexpr int kSectionCount = 17;
 
 // Sections defined in their own files (tests/determinism/<module>_section.cpp).
 std::uint64_t panoramaSection() noexcept;   // panorama_section.cpp
 std::uint64_t tiepointsSection() noexcept;  // tiepoints_section.cpp
 std::uint64_t bundleSection() noexcept;     // bundle_section.cpp
+std::uint64_t krigingSection() noexcept;    // kriging_section.cpp
 
 // Name of a section for reports ("eigen", "math", ...).
 const char* sectionName(Section s) noexcept;
