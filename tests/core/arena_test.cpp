@@ -98,5 +98,31 @@ TEST(Arena, ArrayBytesCoversTheWorstAlignmentPadding) {
     }
 }
 
+// construct<T>: objects with default member initialisers (and over-aligned ones) come out
+// initialised and aligned; constructBytes<T> is enough from any pool offset; a pool one
+// byte short gives nullptr.
+struct alignas(32) Initialised {
+    double value = 2.5;
+    std::int32_t count = 7;
+};
+
+TEST(Arena, ConstructInitialisesObjectsAndConstructBytesSuffice) {
+    alignas(64) std::byte storage[512 + 64];
+    for (std::size_t offset = 0; offset < 16; ++offset) {
+        Arena arena(storage + offset, Arena::constructBytes<Initialised>(5));
+        test::NoHeapScope guard;
+        Initialised* objects = arena.construct<Initialised>(5);
+        ASSERT_NE(objects, nullptr) << offset;
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(objects) % 32U, 0U);
+        for (int i = 0; i < 5; ++i) {
+            EXPECT_EQ(objects[i].value, 2.5);
+            EXPECT_EQ(objects[i].count, 7);
+        }
+        EXPECT_EQ(guard.heapCalls(), 0U);
+        Arena small(storage + offset, 5 * sizeof(Initialised) - 1);
+        EXPECT_EQ(small.construct<Initialised>(5), nullptr) << offset;
+    }
+}
+
 }  // namespace
 }  // namespace vtm

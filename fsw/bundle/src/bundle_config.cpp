@@ -1,6 +1,5 @@
 // Configuration checks, the workspace formula and init() of the bundle adjuster.
 #include <cmath>
-#include <new>
 
 #include "bundle_internal.hpp"
 
@@ -13,30 +12,12 @@ Status invalid(const char* reason, std::int64_t value) noexcept {
 
 bool positive(double v) noexcept { return std::isfinite(v) && v > 0.0; }
 
-// Arena bytes of `count` objects of T and the objects themselves, value-initialised in place
-// (the records hold Eigen matrices, which are not trivial: Arena::allocateArray refuses
-// them; the same pattern as fsw/refine's pair_refiner.cpp).
-template <typename T>
-constexpr std::size_t alignmentOf() noexcept {
-    return alignof(T) > Arena::kDefaultAlignment ? alignof(T) : Arena::kDefaultAlignment;
-}
-
-template <typename T>
-constexpr std::size_t objectBytes(std::size_t count) noexcept {
-    return Arena::blockBytes(count * sizeof(T), alignmentOf<T>());
-}
-
+// `count` objects of T constructed in the arena (Arena::construct), as a span; empty when
+// the pool cannot hold them.
 template <typename T>
 Span<T> construct(Arena& arena, std::size_t count) noexcept {
-    void* block = arena.allocate(count * sizeof(T), alignmentOf<T>());
-    if (block == nullptr) {
-        return Span<T>();
-    }
-    T* objects = static_cast<T*>(block);
-    for (std::size_t i = 0U; i < count; ++i) {  // bound: count, from the config
-        ::new (static_cast<void*>(objects + i)) T();
-    }
-    return Span<T>(objects, count);
+    T* objects = arena.construct<T>(count);
+    return objects != nullptr ? Span<T>(objects, count) : Span<T>();
 }
 
 std::int64_t milli(double v) noexcept {
@@ -120,15 +101,15 @@ std::size_t BundleAdjuster::workspaceBytes(const BundleConfig& config) noexcept 
     const auto o = static_cast<std::size_t>(config.max_observations);
     const std::size_t dim = 6U * s;
     // Term by term, in the order init() carves them.
-    return objectBytes<StationWork>(s)             // stations: poses, prior information, U, g
-           + objectBytes<StationSolution>(s)       // stations published
-           + objectBytes<PointWork>(p)             // points: positions, V, g
-           + objectBytes<PointSolution>(p)         // points published
+    return Arena::constructBytes<StationWork>(s)             // stations: poses, prior information, U, g
+           + Arena::constructBytes<StationSolution>(s)       // stations published
+           + Arena::constructBytes<PointWork>(p)             // points: positions, V, g
+           + Arena::constructBytes<PointSolution>(p)         // points published
            + Arena::arrayBytes<std::uint32_t>(o)         // observation order by point
            + Arena::arrayBytes<std::uint32_t>(p + 1U)    // first observation of each point
-           + objectBytes<ObservationWork>(o)       // linearisation per observation
-           + objectBytes<ObservationResidual>(o)   // residuals published
-           + objectBytes<StationGroup>(s)          // one point's stations (scratch)
+           + Arena::constructBytes<ObservationWork>(o)       // linearisation per observation
+           + Arena::constructBytes<ObservationResidual>(o)   // residuals published
+           + Arena::constructBytes<StationGroup>(s)          // one point's stations (scratch)
            + Arena::arrayBytes<double>(dim * dim)        // reduced system / its Cholesky factor
            + Arena::arrayBytes<double>(dim * dim)        // its inverse (covariances)
            + Arena::arrayBytes<double>(dim)              // right-hand side

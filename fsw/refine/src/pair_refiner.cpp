@@ -1,7 +1,5 @@
 #include "vtm/refine/pair_refiner.hpp"
 
-#include <new>
-
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/features/visibility.hpp"
@@ -23,32 +21,6 @@ Status badRequest(const char* reason, std::int64_t value = 0) noexcept {
 }
 
 bool inRange(double v, double lo, double hi) noexcept { return math::isFinite(v) && v >= lo && v <= hi; }
-
-template <typename T>
-constexpr std::size_t alignmentOf() noexcept {
-    return alignof(T) > Arena::kDefaultAlignment ? alignof(T) : Arena::kDefaultAlignment;
-}
-
-// Arena bytes of `count` objects of T (construct<T> below).
-template <typename T>
-constexpr std::size_t objectBytes(std::size_t count) noexcept {
-    return Arena::blockBytes(count * sizeof(T), alignmentOf<T>());
-}
-
-// `count` value-initialised objects of T in arena storage (placement new: the types here
-// are not trivial, so Arena::allocateArray does not take them), nullptr when it is full.
-template <typename T>
-T* construct(Arena& arena, std::size_t count) noexcept {
-    void* block = arena.allocate(count * sizeof(T), alignmentOf<T>());
-    if (block == nullptr) {
-        return nullptr;
-    }
-    T* objects = static_cast<T*>(block);
-    for (std::size_t i = 0U; i < count; ++i) {
-        ::new (static_cast<void*>(objects + i)) T();
-    }
-    return objects;
-}
 
 std::size_t pixelsOf(const Config& c) noexcept {
     return static_cast<std::size_t>(c.max_width) * static_cast<std::size_t>(c.max_height);
@@ -110,8 +82,8 @@ std::size_t PairRefiner::workspaceBytes(const Config& config) noexcept {
     return features::ForstnerDetector::workspaceBytes(config.detectorConfig())  // each module's own plan
            + features::TemplateMatcher::workspaceBytes(config.matcherConfig()) +
            Arena::arrayBytes<std::uint8_t>(pixelsOf(config))  // visibility mask
-           + objectBytes<motion::MotionRefiner>(1U) + objectBytes<features::FeatureSet>(1U) +
-           objectBytes<features::MatchSet>(1U) + 2U * objectBytes<Vec2>(kMatches)  // matched pixels a, b
+           + Arena::constructBytes<motion::MotionRefiner>(1U) + Arena::constructBytes<features::FeatureSet>(1U) +
+           Arena::constructBytes<features::MatchSet>(1U) + 2U * Arena::constructBytes<Vec2>(kMatches)  // matched pixels a, b
            + Arena::arrayBytes<std::uint8_t>(kMatches)                            // inlier flags
            + Arena::arrayBytes<double>(kMatches);                                 // refined ranges
 }
@@ -122,11 +94,11 @@ Status PairRefiner::init(const Config& config, Arena& arena) noexcept {
     VTM_RETURN_IF_ERROR(detector_.init(config.detectorConfig(), arena));
     VTM_RETURN_IF_ERROR(matcher_.init(config.matcherConfig(), arena));
     const Span<std::uint8_t> mask = arena.allocateArray<std::uint8_t>(pixelsOf(config));
-    refiner_ = construct<motion::MotionRefiner>(arena, 1U);
-    features_ = construct<features::FeatureSet>(arena, 1U);
-    matches_ = construct<features::MatchSet>(arena, 1U);
-    Vec2* pa = construct<Vec2>(arena, kMatches);
-    Vec2* pb = construct<Vec2>(arena, kMatches);
+    refiner_ = arena.construct<motion::MotionRefiner>(1U);
+    features_ = arena.construct<features::FeatureSet>(1U);
+    matches_ = arena.construct<features::MatchSet>(1U);
+    Vec2* pa = arena.construct<Vec2>(kMatches);
+    Vec2* pb = arena.construct<Vec2>(kMatches);
     inliers_ = arena.allocateArray<std::uint8_t>(kMatches);
     ranges_ = arena.allocateArray<double>(kMatches);
     if (mask.empty() || refiner_ == nullptr || features_ == nullptr || matches_ == nullptr || pa == nullptr ||

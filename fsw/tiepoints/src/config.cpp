@@ -1,5 +1,4 @@
 // Config::validate, workspaceBytes and init of the tie-point extractor (tiepoints.hpp).
-#include <new>
 
 #include "vtm/core/math.hpp"
 #include "vtm/tiepoints/tiepoints.hpp"
@@ -96,14 +95,14 @@ std::size_t TiePointExtractor::workspaceBytes(const Config& config) noexcept {
     return features::ForstnerDetector::workspaceBytes(config.detectorConfig()) +
            features::TemplateMatcher::workspaceBytes(config.matcherConfig()) +
            terrain::HeightMap::workspaceBytes(mapConfig(config)) +
-           2U * detail::objectBytes<features::FeatureSet>(1U) + 2U * detail::objectBytes<features::MatchSet>(1U) +
+           2U * Arena::constructBytes<features::FeatureSet>(1U) + 2U * Arena::constructBytes<features::MatchSet>(1U) +
            Arena::arrayBytes<std::uint8_t>(static_cast<std::size_t>(features::kMaxFeatures))  // keep
-           + detail::objectBytes<features::Feature>(slots) + Arena::arrayBytes<std::int32_t>(slots)  // point ids
-           + detail::objectBytes<Vec3>(slots) + Arena::arrayBytes<std::uint8_t>(slots)                // stereo points
+           + Arena::constructBytes<features::Feature>(slots) + Arena::arrayBytes<std::int32_t>(slots)  // point ids
+           + Arena::constructBytes<Vec3>(slots) + Arena::arrayBytes<std::uint8_t>(slots)                // stereo points
            + Arena::arrayBytes<std::int32_t>(static_cast<std::size_t>(config.max_stations))           // feature counts
-           + detail::objectBytes<TieObservation>(static_cast<std::size_t>(config.max_observations)) +
-           detail::objectBytes<PairCount>(detail::pairCapacity(config)) +
-           detail::objectBytes<ImageRef>(points * detail::kMaxSightings) + Arena::arrayBytes<std::uint8_t>(points);
+           + Arena::constructBytes<TieObservation>(static_cast<std::size_t>(config.max_observations)) +
+           Arena::constructBytes<PairCount>(detail::pairCapacity(config)) +
+           Arena::constructBytes<ImageRef>(points * detail::kMaxSightings) + Arena::arrayBytes<std::uint8_t>(points);
 }
 
 Status TiePointExtractor::init(const Config& config, Arena& arena) noexcept {
@@ -114,19 +113,19 @@ Status TiePointExtractor::init(const Config& config, Arena& arena) noexcept {
     VTM_RETURN_IF_ERROR(map_.init(mapConfig(config), arena));
     const std::size_t slots = detail::featureSlots(config);
     const std::size_t points = detail::pointCapacity(config);
-    detected_ = detail::construct<features::FeatureSet>(arena, 1U);
-    single_ = detail::construct<features::FeatureSet>(arena, 1U);
-    found_ = detail::construct<features::MatchSet>(arena, 1U);
-    matches_ = detail::construct<features::MatchSet>(arena, 1U);
+    detected_ = arena.construct<features::FeatureSet>(1U);
+    single_ = arena.construct<features::FeatureSet>(1U);
+    found_ = arena.construct<features::MatchSet>(1U);
+    matches_ = arena.construct<features::MatchSet>(1U);
     keep_ = arena.allocateArray<std::uint8_t>(static_cast<std::size_t>(features::kMaxFeatures));
-    features::Feature* f = detail::construct<features::Feature>(arena, slots);
+    features::Feature* f = arena.construct<features::Feature>(slots);
     pointId_ = arena.allocateArray<std::int32_t>(slots);
-    Vec3* stereo = detail::construct<Vec3>(arena, slots);
+    Vec3* stereo = arena.construct<Vec3>(slots);
     hasStereo_ = arena.allocateArray<std::uint8_t>(slots);
     featureCount_ = arena.allocateArray<std::int32_t>(static_cast<std::size_t>(config.max_stations));
-    TieObservation* obs = detail::construct<TieObservation>(arena, static_cast<std::size_t>(config.max_observations));
-    PairCount* pairs = detail::construct<PairCount>(arena, detail::pairCapacity(config));
-    ImageRef* seen = detail::construct<ImageRef>(arena, points * detail::kMaxSightings);
+    TieObservation* obs = arena.construct<TieObservation>(static_cast<std::size_t>(config.max_observations));
+    PairCount* pairs = arena.construct<PairCount>(detail::pairCapacity(config));
+    ImageRef* seen = arena.construct<ImageRef>(points * detail::kMaxSightings);
     sightingCount_ = arena.allocateArray<std::uint8_t>(points);
     if (detected_ == nullptr || single_ == nullptr || found_ == nullptr || matches_ == nullptr || keep_.empty() ||
         f == nullptr || pointId_.empty() || stereo == nullptr || hasStereo_.empty() || featureCount_.empty() ||

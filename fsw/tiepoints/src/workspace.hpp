@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cstddef>
-#include <new>
 
 #include "vtm/core/arena.hpp"
 #include "vtm/tiepoints/tiepoints.hpp"
@@ -11,32 +10,6 @@ namespace vtm::tiepoints::detail {
 
 // Images a tie point can be seen in (its station's two, and two in each of two neighbours).
 constexpr std::size_t kMaxSightings = 8U;
-
-template <typename T>
-constexpr std::size_t alignmentOf() noexcept {
-    return alignof(T) > Arena::kDefaultAlignment ? alignof(T) : Arena::kDefaultAlignment;
-}
-
-// Arena bytes of `count` objects of T (construct<T>).
-template <typename T>
-constexpr std::size_t objectBytes(std::size_t count) noexcept {
-    return Arena::blockBytes(count * sizeof(T), alignmentOf<T>());
-}
-
-// `count` value-initialised objects of T in arena storage (placement new: these types have
-// default member initialisers, so Arena::allocateArray does not take them); nullptr when full.
-template <typename T>
-T* construct(Arena& arena, std::size_t count) noexcept {
-    void* block = arena.allocate(count * sizeof(T), alignmentOf<T>());
-    if (block == nullptr) {
-        return nullptr;
-    }
-    T* objects = static_cast<T*>(block);
-    for (std::size_t i = 0U; i < count; ++i) {
-        ::new (static_cast<void*>(objects + i)) T();
-    }
-    return objects;
-}
 
 // Per-station feature slots: max_stations * detector.max_features.
 constexpr std::size_t featureSlots(const Config& c) noexcept {

@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <type_traits>
 
 #include "vtm/core/assert.hpp"
@@ -51,6 +52,32 @@ public:
         return blockBytes(count * sizeof(T), alignof(T) > kDefaultAlignment ? alignof(T) : kDefaultAlignment);
     }
 
+    // `count` value-initialised objects of a type with a constructor (default member
+    // initialisers, Eigen members: what allocateArray refuses), constructed in place;
+    // nullptr when the pool cannot hold them. They are never destroyed: such types must
+    // not own resources (flight types do not).
+    template <typename T>
+    [[nodiscard]] T* construct(std::size_t count) noexcept {
+        if (count > maxElements(sizeof(T))) {
+            return nullptr;
+        }
+        void* block = allocate(count * sizeof(T), alignOf<T>());
+        if (block == nullptr) {
+            return nullptr;
+        }
+        T* objects = static_cast<T*>(block);
+        for (std::size_t i = 0U; i < count; ++i) {  // bound: count
+            ::new (static_cast<void*>(objects + i)) T();
+        }
+        return objects;
+    }
+
+    // Bytes construct<T>(count) needs at most: the term of a workspaceBytes() formula.
+    template <typename T>
+    [[nodiscard]] static constexpr std::size_t constructBytes(std::size_t count) noexcept {
+        return blockBytes(count * sizeof(T), alignOf<T>());
+    }
+
     // Ends initialisation: from now on allocate() is an assertion failure.
     void freeze() noexcept { frozen_ = true; }
     [[nodiscard]] bool frozen() const noexcept { return frozen_; }
@@ -73,6 +100,10 @@ public:
     }
 
 private:
+    template <typename T>
+    [[nodiscard]] static constexpr std::size_t alignOf() noexcept {
+        return alignof(T) > kDefaultAlignment ? alignof(T) : kDefaultAlignment;
+    }
     [[nodiscard]] static constexpr std::size_t maxElements(std::size_t elementSize) noexcept {
         return static_cast<std::size_t>(-1) / elementSize;
     }
