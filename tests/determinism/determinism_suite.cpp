@@ -1,4 +1,5 @@
 #include "determinism_suite.hpp"
+#include "hasher.hpp"
 
 #include <cstring>
 
@@ -30,36 +31,6 @@
 
 namespace vtm::determinism {
 namespace {
-
-// FNV-1a over a canonical (little-endian) byte order: the same value hashes the same on
-// big- and little-endian targets.
-class Hasher {
-public:
-    void addU64(std::uint64_t v) noexcept {
-        for (int i = 0; i < 8; ++i) {
-            h_ ^= (v >> (8 * i)) & 0xFFU;
-            h_ *= 0x100000001B3ULL;
-        }
-    }
-    void addDouble(double d) noexcept {
-        std::uint64_t bits = 0U;
-        std::memcpy(&bits, &d, sizeof bits);
-        addU64(bits);
-    }
-    void addI64(std::int64_t v) noexcept { addU64(static_cast<std::uint64_t>(v)); }
-    // Floats with every NaN hashed as one value (NaN payloads may differ between FPUs).
-    void addFloat(float f) noexcept {
-        if (f != f) {
-            addU64(0x7FF8000000000000ULL);
-        } else {
-            addDouble(static_cast<double>(f));
-        }
-    }
-    [[nodiscard]] std::uint64_t value() const noexcept { return h_; }
-
-private:
-    std::uint64_t h_ = 0xCBF29CE484222325ULL;
-};
 
 std::uint64_t eigenSection() noexcept {
     Hasher h;

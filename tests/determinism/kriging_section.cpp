@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "determinism_suite.hpp"
+#include "hasher.hpp"
 #include "sim/render.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"
@@ -19,29 +20,7 @@
 namespace vtm::determinism {
 namespace {
 
-// FNV-1a 64 over little-endian bytes of each value's bit pattern (as the suite's hasher).
-class KrigingHasher {
-public:
-    void addU64(std::uint64_t v) noexcept {
-        for (int i = 0; i < 8; ++i) {
-            h_ ^= (v >> (8 * i)) & 0xFFU;
-            h_ *= 0x100000001B3ULL;
-        }
-    }
-    void addI64(std::int64_t v) noexcept { addU64(static_cast<std::uint64_t>(v)); }
-    void addDouble(double d) noexcept {
-        std::uint64_t bits = 0U;
-        std::memcpy(&bits, &d, sizeof bits);
-        addU64(bits);
-    }
-    void addFloat(float f) noexcept { addDouble(f != f ? 1e300 : static_cast<double>(f)); }  // one NaN
-    [[nodiscard]] std::uint64_t value() const noexcept { return h_; }
-
-private:
-    std::uint64_t h_ = 0xCBF29CE484222325ULL;
-};
-
-void hashVariogram(const Status& s, const kriging::Variogram& v, KrigingHasher& h) noexcept {
+void hashVariogram(const Status& s, const kriging::Variogram& v, Hasher& h) noexcept {
     h.addI64(static_cast<std::int64_t>(s.code()));
     h.addI64(static_cast<std::int64_t>(v.model));
     h.addDouble(v.nugget_m2);
@@ -52,7 +31,7 @@ void hashVariogram(const Status& s, const kriging::Variogram& v, KrigingHasher& 
 
 // The orthophoto of the kriged grid from two nadir pinholes 3 m up over a generated texture,
 // then with a third, low oblique view whose lines of sight the relief cuts (occlusion test).
-void hashOrthophoto(const kriging::KrigedMap& map, KrigingHasher& h) noexcept {
+void hashOrthophoto(const kriging::KrigedMap& map, Hasher& h) noexcept {
     constexpr std::int32_t kW = 64;
     static std::uint8_t texture[2][kW * kW];
     for (std::int32_t i = 0; i < 2; ++i) {
@@ -115,7 +94,7 @@ std::uint64_t krigingSection() noexcept {
     static std::byte pool[256U << 10U];
     Arena arena(pool, sizeof pool);
     static kriging::OrdinaryKriging k;
-    KrigingHasher h;
+    Hasher h;
     h.addI64(static_cast<std::int64_t>(k.init(c, arena).code()));
     h.addI64(static_cast<std::int64_t>(k.setSamples(Span<const Vec3>(samples, 600)).code()));
     kriging::Variogram v;

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "determinism_suite.hpp"
+#include "hasher.hpp"
 #include "sim/panorama.hpp"
 #include "sim/scenario.hpp"
 #include "vtm/core/arena.hpp"
@@ -21,61 +22,38 @@ constexpr std::string_view kPanoramaText =
     "[pointing]\npan_sigma_deg 0.1\ntilt_sigma_deg 0.1\nmast_tilt_sigma_deg 0.2\nhead_offset_sigma_m 0.005\n"
     "rover_roll_sigma_deg 0.3\nrover_pitch_sigma_deg 0.3\nrover_heading_sigma_deg 1\n";
 
-std::uint64_t fnv(std::uint64_t h, std::uint64_t v) noexcept {
-    for (int i = 0; i < 8; ++i) {  // bound: 8 bytes, least significant first
-        h ^= (v >> (8 * i)) & 0xFFU;
-        h *= 0x100000001B3ULL;
-    }
-    return h;
-}
-
-std::uint64_t fnvDouble(std::uint64_t h, double d) noexcept {
-    std::uint64_t bits = 0U;
-    std::memcpy(&bits, &d, sizeof bits);
-    return fnv(h, bits);
-}
-
-std::uint64_t fnvPose(std::uint64_t h, const RigidPose& p) noexcept {
-    for (int i = 0; i < 9; ++i) {  // bound: 3x3
-        h = fnvDouble(h, p.R(i / 3, i % 3));
-    }
-    for (int i = 0; i < 3; ++i) {  // bound: 3
-        h = fnvDouble(h, p.t_m[i]);
-    }
-    return h;
-}
-
 }  // namespace
 
 std::uint64_t panoramaSection() noexcept {
-    std::uint64_t h = 0xCBF29CE484222325ULL;
+    Hasher h;
     static sim::Scenario scenario;
     const Status parsed = sim::parseScenario(kPanoramaText, scenario);
-    h = fnv(h, static_cast<std::uint64_t>(parsed.code()));
+    h.addU64(static_cast<std::uint64_t>(parsed.code()));
     static std::byte pool[1U << 20U];
     Arena arena(pool, sizeof pool);
     static sim::Terrain terrain;
     if (!parsed.isOk() || !sim::buildScenarioTerrain(scenario, arena, terrain).isOk()) {
-        return fnv(h, 1U);
+        h.addU64(1U);
+        return h.value();
     }
     static sim::Panorama panorama;
     const Status built = sim::buildPanorama(scenario, terrain, panorama);
-    h = fnv(h, static_cast<std::uint64_t>(built.code()));
+    h.addU64(static_cast<std::uint64_t>(built.code()));
     for (std::int32_t k = 0; built.isOk() && k < panorama.count; ++k) {  // bound: <= kMaxPanoramaStations
         const sim::PanoramaStation& s = panorama.stations[k];
-        h = fnvPose(h, s.truth.site_from_a);
-        h = fnvPose(h, s.approx.site_from_a);
+        h.addPose(s.truth.site_from_a);
+        h.addPose(s.approx.site_from_a);
         for (int i = 0; i < 36; ++i) {  // bound: 6x6
-            h = fnvDouble(h, s.approx.prior_covariance(i / 6, i % 6));
+            h.addDouble(s.approx.prior_covariance(i / 6, i % 6));
         }
     }
     for (std::int32_t k = 1; built.isOk() && k < panorama.count; k += 5) {  // bound: <= kMaxPanoramaStations / 5
         const Mat6 cross = sim::panoramaCrossCovariance(scenario, panorama, 0, k);
         for (int i = 0; i < 36; ++i) {  // bound: 6x6
-            h = fnvDouble(h, cross(i / 6, i % 6));
+            h.addDouble(cross(i / 6, i % 6));
         }
     }
-    return h;
+    return h.value();
 }
 
 }  // namespace vtm::determinism

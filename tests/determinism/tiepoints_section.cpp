@@ -5,32 +5,12 @@
 #include <cstring>
 
 #include "determinism_suite.hpp"
+#include "hasher.hpp"
 #include "panorama_scene.hpp"
 #include "vtm/tiepoints/tiepoints.hpp"
 
 namespace vtm::determinism {
 namespace {
-
-// FNV-1a over little-endian bytes (the suite's convention).
-class SectionHasher {
-public:
-    void addU64(std::uint64_t v) noexcept {
-        for (int i = 0; i < 8; ++i) {
-            h_ ^= (v >> (8 * i)) & 0xFFU;
-            h_ *= 0x100000001B3ULL;
-        }
-    }
-    void addI64(std::int64_t v) noexcept { addU64(static_cast<std::uint64_t>(v)); }
-    void addDouble(double d) noexcept {
-        std::uint64_t bits = 0U;
-        std::memcpy(&bits, &d, sizeof bits);
-        addU64(bits);
-    }
-    [[nodiscard]] std::uint64_t value() const noexcept { return h_; }
-
-private:
-    std::uint64_t h_ = 0xCBF29CE484222325ULL;
-};
 
 constexpr std::int32_t kSide = 128;
 constexpr std::int32_t kStations = 2;
@@ -66,7 +46,7 @@ tiepoints::Config sectionConfig() noexcept {
 }  // namespace
 
 std::uint64_t tiepointsSection() noexcept {
-    SectionHasher h;
+    Hasher h;
     Storage& s = g_storage;
     vtm::test::PanoramaSpec spec;
     spec.width = kSide;
