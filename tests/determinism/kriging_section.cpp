@@ -42,7 +42,7 @@ void hashOrthophoto(const kriging::KrigedMap& map, Hasher& h) noexcept {
         }
     }
     NetworkStation stations[3];
-    kriging::StationImages images[3];
+    StationImages images[3];
     for (std::int32_t i = 0; i < 3; ++i) {
         stations[i].rig.model_a = makePinhole(kW, kW, 80.0);
         stations[i].rig.model_b = stations[i].rig.model_a;
@@ -50,7 +50,7 @@ void hashOrthophoto(const kriging::KrigedMap& map, Hasher& h) noexcept {
         // Optical axis down (site +z), image +x east, +y south.
         stations[i].site_from_a.R << 0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0;
         stations[i].site_from_a.t_m = Vec3(4.0, 2.5 + 3.0 * i, -3.0);
-        images[i].eye[0] = ImageView<const std::uint8_t>(texture[i % 2], kW, kW);
+        images[i].left = ImageView<const std::uint8_t>(texture[i % 2], kW, kW);
     }
     stations[2].site_from_a = sim::poseLookingAt(Vec3(4.0, -1.0, -0.4), Vec3(4.0, 4.0, 0.3));
     static std::uint8_t grey[32 * 32];
@@ -59,7 +59,7 @@ void hashOrthophoto(const kriging::KrigedMap& map, Hasher& h) noexcept {
         kriging::OrthophotoStats stats;
         const Status s = kriging::buildOrthophoto(
             kriging::OrthophotoConfig{}, map.grid(), map.elevations(), Span<const NetworkStation>(stations, count),
-            Span<const kriging::StationImages>(images, count), ImageView<std::uint8_t>(grey, 32, 32),
+            Span<const StationImages>(images, count), ImageView<std::uint8_t>(grey, 32, 32),
             ImageView<std::uint16_t>(source, 32, 32), &stats);
         h.addI64(static_cast<std::int64_t>(s.code()));
         h.addI64(stats.filled);

@@ -59,7 +59,7 @@ std::uint64_t tiepointsSection() noexcept {
     }
     const CameraModel model = makePinhole(kSide, kSide, spec.hfov_deg);
     NetworkStation stations[kStations];
-    tiepoints::StationImages images[kStations];
+    StationImages images[kStations];
     for (std::int32_t k = 0; k < kStations; ++k) {
         RigidPose left;
         RigidPose right;
@@ -84,7 +84,7 @@ std::uint64_t tiepointsSection() noexcept {
     }
     tiepoints::Stats stats;
     const Status run = extractor.run(Span<const NetworkStation>(stations, kStations),
-                                     Span<const tiepoints::StationImages>(images, kStations), &stats);
+                                     Span<const StationImages>(images, kStations), &stats);
     h.addI64(static_cast<std::int64_t>(run.code()));
     for (const TieObservation& o : extractor.observations()) {
         h.addI64(o.image.station);

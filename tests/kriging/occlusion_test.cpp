@@ -73,7 +73,7 @@ TEST(Orthophoto, TheOcclusionTestRejectsTheViewsReliefHides) {
     out.image8 = ImageView<std::uint8_t>(pixels.data(), kW, kH);
     ASSERT_TRUE(sim::renderFrame(r, out, nullptr).isOk());
     StationImages im;
-    im.eye[0] = ImageView<const std::uint8_t>(pixels.data(), kW, kH);
+    im.left = ImageView<const std::uint8_t>(pixels.data(), kW, kH);
     const auto run = [&](bool occlusion, std::vector<std::uint16_t>& source, OrthophotoStats& stats) {
         std::vector<std::uint8_t> grey(z.size(), 0U);
         source.assign(z.size(), 0U);

@@ -70,7 +70,7 @@ const Scene& scene() {
         }
         for (int i = 0; i < 3; ++i) {
             StationImages im;
-            im.eye[0] = ImageView<const std::uint8_t>(q.pixels[static_cast<std::size_t>(i)].data(), kWidth, kHeight);
+            im.left = ImageView<const std::uint8_t>(q.pixels[static_cast<std::size_t>(i)].data(), kWidth, kHeight);
             q.images.push_back(im);
         }
         return q;
@@ -316,7 +316,7 @@ TEST(Orthophoto, RefusalsAreNamedAndNothingIsWritten) {
     EXPECT_EQ(buildOrthophoto(OrthophotoConfig{}, g, zs, st, im, ImageView<std::uint8_t>(grey.data(), g.cols - 1, g.rows), sv).code(),
               StatusCode::kSizeMismatch);
     std::vector<StationImages> wrong(s.images);
-    wrong[1].eye[1] = ImageView<const std::uint8_t>(s.pixels[0].data(), kWidth / 2, kHeight);
+    wrong[1].right = ImageView<const std::uint8_t>(s.pixels[0].data(), kWidth / 2, kHeight);
     const Status ws = buildOrthophoto(OrthophotoConfig{}, g, zs, st, Span<const StationImages>(wrong.data(), wrong.size()), gv, sv);
     EXPECT_EQ(ws.code(), StatusCode::kSizeMismatch);
     EXPECT_EQ(ws.detail(), 3);  // station 1, right eye

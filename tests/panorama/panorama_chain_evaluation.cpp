@@ -124,17 +124,17 @@ void tiePoints(const World& w, Chain& c) {
     ASSERT_TRUE(extractor->init(tc, arena).isOk());
     for (std::int32_t t = 0; t < tiers; ++t) {
         std::vector<NetworkStation> ring;
-        std::vector<tiepoints::StationImages> images;
+        std::vector<StationImages> images;
         for (std::int32_t k = 0; k < columns; ++k) {
             const std::int32_t s = t * columns + k;
             ring.push_back(w.panorama.stations[s].approx);
-            tiepoints::StationImages im;
+            StationImages im;
             im.left = ImageView<const std::uint8_t>(w.pixels[static_cast<std::size_t>(2 * s)].data(), w.side, w.side);
             im.right = ImageView<const std::uint8_t>(w.pixels[static_cast<std::size_t>(2 * s + 1)].data(), w.side, w.side);
             images.push_back(im);
         }
         const Status st = extractor->run(Span<const NetworkStation>(ring.data(), ring.size()),
-                                         Span<const tiepoints::StationImages>(images.data(), images.size()));
+                                         Span<const StationImages>(images.data(), images.size()));
         if (!st.isOk()) {
             std::printf("[ chain ] tier %d: tie points refused: %s\n", t, st.reason());
             ++c.tiepoint_failures;

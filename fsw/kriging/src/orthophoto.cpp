@@ -39,7 +39,7 @@ Status checkInputs(const terrain::GridConfig& grid, Span<const float> elevation_
                           static_cast<std::int64_t>(s));
         }
         for (std::int32_t e = 0; e < 2; ++e) {
-            const ImageView<const std::uint8_t>& view = images[s].eye[e];
+            const ImageView<const std::uint8_t>& view = imageOfEye(images[s], eyeOf(e));
             if (view.data() == nullptr) {
                 continue;
             }
@@ -77,7 +77,7 @@ Pick pickImage(const Vec3& point_site_m, const Scene& scene, std::int32_t& occlu
     Pick best;
     for (std::size_t s = 0; s < stations.size(); ++s) {
         for (std::int32_t e = 0; e < 2; ++e) {
-            const ImageView<const std::uint8_t>& view = images[s].eye[e];
+            const ImageView<const std::uint8_t>& view = imageOfEye(images[s], eyeOf(e));
             if (view.data() == nullptr) {
                 continue;
             }
@@ -167,7 +167,7 @@ Status buildOrthophoto(const OrthophotoConfig& config, const terrain::GridConfig
                 ++st.not_seen;
                 continue;
             }
-            grey.row(row)[col] = bilinear(images[pick.source / 2U].eye[pick.source % 2U], pick.pixel);
+            grey.row(row)[col] = bilinear(imageOfEye(images[pick.source / 2U], eyeOf(static_cast<std::int32_t>(pick.source % 2U))), pick.pixel);
             source.row(row)[col] = pick.source;
             ++st.filled;
         }

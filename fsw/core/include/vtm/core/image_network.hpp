@@ -4,7 +4,8 @@
 //  - A station is one exposure of the stereo rig: a CameraPair (model_a = left eye,
 //    model_b = right eye, b_from_a fixed by calibration) and the left camera's pose
 //    site_from_a in the site frame (x north, y east, z down).
-//  - An image is one eye of one station (ImageRef).
+//  - An image is one eye of one station (ImageRef); a station's two images are
+//    StationImages.
 //  - A tie point is one ground point seen in two or more images; each sighting is a
 //    TieObservation naming the image and the pixel.
 //  - A station's pointing prior is the 6x6 covariance of the perturbation (dtheta, dt)
@@ -18,6 +19,7 @@
 #include <cstdint>
 
 #include "vtm/core/eigen.hpp"
+#include "vtm/core/image.hpp"
 #include "vtm/core/pose.hpp"
 #include "vtm/core/status.hpp"
 
@@ -41,6 +43,18 @@ struct TieObservation {
     std::uint32_t point = 0U;       // tie point id, 0 .. points - 1
     Vec2 pixel_px = Vec2::Zero();   // conventions of vtm/core/camera_model.hpp
 };
+
+// The 8-bit images of one station's two eyes; an empty view (data null) for an eye
+// without an image.
+struct StationImages {
+    ImageView<const std::uint8_t> left{};
+    ImageView<const std::uint8_t> right{};
+};
+
+// The image of one eye.
+[[nodiscard]] inline const ImageView<const std::uint8_t>& imageOfEye(const StationImages& images, Eye eye) noexcept {
+    return eye == Eye::kLeft ? images.left : images.right;
+}
 
 // site_from_cam of one eye of a station: the left pose itself, or poseOfB for the right.
 [[nodiscard]] RigidPose siteFromEye(const NetworkStation& station, Eye eye) noexcept;

@@ -29,11 +29,6 @@ namespace vtm::kriging {
 constexpr std::uint16_t kNoSource = 0xFFFFU;
 constexpr std::size_t kMaxOrthoStations = 32767U;
 
-// The images of one station: an empty view (data null) for an eye without an image.
-struct StationImages {
-    ImageView<const std::uint8_t> eye[2];
-};
-
 struct OrthophotoConfig {
     bool occlusion_test = true;
     double occlusion_margin_m = 0.02;  // >= 0, finite: relief this much above the line still lets it through

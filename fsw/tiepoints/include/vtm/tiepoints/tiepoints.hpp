@@ -55,11 +55,6 @@ namespace vtm::tiepoints {
 
 constexpr std::int32_t kMaxStations = 64;
 
-struct StationImages {
-    ImageView<const std::uint8_t> left;
-    ImageView<const std::uint8_t> right;
-};
-
 // The number of tie points seen in both images a and b (a before b in the table order).
 struct PairCount {
     ImageRef a{};
