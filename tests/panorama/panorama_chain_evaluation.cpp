@@ -23,6 +23,8 @@
 #include "sim/scenario.hpp"
 #include "vtm/bundle/bundle_adjuster.hpp"
 #include "vtm/core/rotation.hpp"
+#include "vtm/kriging/ordinary_kriging.hpp"
+#include "vtm/kriging/orthophoto.hpp"
 #include "vtm/tiepoints/tiepoints.hpp"
 
 namespace vtm {
@@ -207,6 +209,9 @@ struct Figures {
     double obj_before = 0.0, obj_after = 0.0;      // RMS tie point error against the truth, m (all bands)
     double rel_rot_before = 0.0, rel_rot_after = 0.0;  // median neighbour relative rotation error, deg
     double wrong_fraction = 0.0;                   // tie points whose truth is > 0.25 m from the adjusted point
+    double map_rms_near = 0.0, map_rms_far = 0.0;  // kriged elevation vs the terrain, 0-4 m and 4-10 m from the mast, m
+    double map_coverage_near = 0.0;                // fraction of 0-4 m nodes with an estimate
+    double seam_ratio = 0.0;                       // orthophoto: grey step across source borders / within one source
     std::int32_t points = 0, observations = 0;
 };
 
@@ -270,6 +275,91 @@ Figures measure(const World& w, Chain& c) {
     return f;
 }
 
+// Products of the adjusted network (item 4): the adjusted tie points kriged into a 0.25 m
+// elevation grid around the mast, against the terrain by distance band; the orthophoto from
+// the adjusted stations, its grey steps across source borders against those inside one image.
+void products(const World& w, const Chain& c, Figures& f) {
+    const Vec3 mast = c.truth[0].site_from_a.t_m;
+    std::vector<Vec3> samples;
+    for (const bundle::PointSolution& p : c.solved) {
+        const Vec3 d = p.position_m - mast;
+        if (p.state == bundle::PointState::kAdjusted && std::hypot(d.x(), d.y()) <= 12.0) samples.push_back(p.position_m);
+    }
+    kriging::KrigingConfig kc;
+    kc.grid.cell_m = 0.25;
+    kc.grid.cols = kc.grid.rows = 80;  // 20 m square
+    kc.grid.north_edge_m = mast.x() + 10.0;
+    kc.grid.west_edge_m = mast.y() - 10.0;
+    kc.max_samples = static_cast<std::int32_t>(samples.size()) + 16;
+    kc.search_radius_m = 2.0;
+    std::vector<std::byte> pool(kriging::OrdinaryKriging::workspaceBytes(kc));
+    Arena arena(pool.data(), pool.size());
+    auto krig = std::make_unique<kriging::OrdinaryKriging>();
+    ASSERT_TRUE(krig->init(kc, arena).isOk());
+    ASSERT_TRUE(krig->setSamples(Span<const Vec3>(samples.data(), samples.size())).isOk());
+    kriging::Variogram v;
+    ASSERT_TRUE(krig->fitVariogram(v).isOk());
+    ASSERT_TRUE(krig->krigeGrid(v).isOk());
+    const kriging::KrigedMap& map = krig->map();
+    std::vector<double> near, far;
+    std::int32_t near_nodes = 0;
+    for (std::int32_t r = 0; r < kc.grid.rows; ++r) {
+        for (std::int32_t col = 0; col < kc.grid.cols; ++col) {
+            const double n = map.centreNorthM(r), e = map.centreEastM(col);
+            const double dist = std::hypot(n - mast.x(), e - mast.y());
+            if (dist < 1.0 || dist > 10.0) continue;  // under the rover: no tie point sees it
+            near_nodes += dist <= 4.0 ? 1 : 0;
+            if (map.reason(col, r) != kriging::NodeReason::kEstimated) continue;
+            const double err = static_cast<double>(map.elevation(col, r)) - w.terrain.elevationAt(n, e);
+            (dist <= 4.0 ? near : far).push_back(err);
+        }
+    }
+    f.map_rms_near = rms(near);
+    f.map_rms_far = rms(far);
+    f.map_coverage_near = near_nodes > 0 ? static_cast<double>(near.size()) / near_nodes : 0.0;
+    // The orthophoto from the adjusted stations.
+    std::vector<NetworkStation> adjusted = c.approx;
+    std::vector<StationImages> images;
+    for (std::size_t s = 0; s < adjusted.size(); ++s) {
+        adjusted[s].site_from_a = c.stations[s].site_from_a;
+        StationImages im;
+        im.left = ImageView<const std::uint8_t>(w.pixels[2 * s].data(), w.side, w.side);
+        im.right = ImageView<const std::uint8_t>(w.pixels[2 * s + 1].data(), w.side, w.side);
+        images.push_back(im);
+    }
+    std::vector<std::uint8_t> grey(static_cast<std::size_t>(kc.grid.cols * kc.grid.rows), 0U);
+    std::vector<std::uint16_t> source(grey.size(), 0U);
+    kriging::OrthophotoConfig oc;
+    ASSERT_TRUE(kriging::buildOrthophoto(oc, kc.grid, map.elevations(), Span<const NetworkStation>(adjusted.data(), adjusted.size()),
+                                         Span<const StationImages>(images.data(), images.size()),
+                                         ImageView<std::uint8_t>(grey.data(), kc.grid.cols, kc.grid.rows),
+                                         ImageView<std::uint16_t>(source.data(), kc.grid.cols, kc.grid.rows))
+                    .isOk());
+    double across = 0.0, within = 0.0;
+    std::int32_t n_across = 0, n_within = 0;
+    for (std::int32_t r = 0; r < kc.grid.rows; ++r) {
+        for (std::int32_t col = 0; col + 1 < kc.grid.cols; ++col) {
+            const std::size_t a = static_cast<std::size_t>(r * kc.grid.cols + col);
+            if (source[a] == kriging::kNoSource || source[a + 1] == kriging::kNoSource) continue;
+            const double step = std::fabs(static_cast<double>(grey[a]) - grey[a + 1]);
+            if (source[a] == source[a + 1]) {
+                within += step;
+                ++n_within;
+            } else {
+                across += step;
+                ++n_across;
+            }
+        }
+    }
+    f.seam_ratio = (n_across > 0 && n_within > 0) ? (across / n_across) / (within / n_within) : 0.0;
+    std::printf("[ chain ]   kriged map from %zu adjusted tie points (variogram: sill %.4f m2, range %.2f m): elevation "
+                "RMS vs terrain %.4f m at 1-4 m (%.0f %% of nodes), %.4f m at 4-10 m (%zu nodes); orthophoto grey step "
+                "across source borders %.2f DN (%d) vs within one image %.2f DN (%d)\n",
+                samples.size(), v.partial_sill_m2 + v.nugget_m2, v.range_m, f.map_rms_near, 100.0 * f.map_coverage_near,
+                f.map_rms_far, far.size(), n_across > 0 ? across / n_across : 0.0, n_across,
+                n_within > 0 ? within / n_within : 0.0, n_within);
+}
+
 Figures runChain(const std::string& text, const char* label) {
     auto w = std::make_unique<World>();
     Figures f;
@@ -285,6 +375,7 @@ Figures runChain(const std::string& text, const char* label) {
     EXPECT_TRUE(c.bundle_status.isOk()) << label << ": " << c.bundle_status.reason();
     if (!c.bundle_status.isOk()) return f;
     f = measure(*w, c);
+    products(*w, c, f);
     std::printf("[ chain ] %s: %d stations, %d tie points, %d observations (%d outliers); image RMS %.3f -> %.3f px; "
                 "tie points vs truth RMS %.4f -> %.4f m; neighbour relative rotation %.4f -> %.4f deg; wrong %.2f %%\n",
                 label, w->panorama.count, f.points, f.observations, c.result.outliers, f.rms_before, f.rms_after,
@@ -326,6 +417,11 @@ TEST(PanoramaChain, RenderedNavcamPanoramaTiePointsAndBundleAgainstTheTruth) {
         EXPECT_LT(f.rel_rot_after, f.rel_rot_before) << label;
         EXPECT_LE(f.wrong_fraction, 0.02) << label;
         EXPECT_GE(f.points, 500) << label;
+        // The kriged elevation near the mast within 5 cm of the terrain; no seam in the
+        // orthophoto (its grey steps across source borders within 1.5x those inside one image).
+        EXPECT_LE(f.map_rms_near, 0.05) << label;
+        EXPECT_GE(f.map_coverage_near, 0.5) << label;
+        EXPECT_LE(f.seam_ratio, 1.5) << label;
     }
 }
 
