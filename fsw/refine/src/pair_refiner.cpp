@@ -1,5 +1,7 @@
 #include "vtm/refine/pair_refiner.hpp"
 
+#include <cmath>
+
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/features/visibility.hpp"
@@ -196,7 +198,9 @@ Status PairRefiner::refineMotion(const Request& request, Result& result) noexcep
         return Status(StatusCode::kDegenerate,
                       "refine: the refined rotation is too uncertain (1-sigma above max_rotation_sigma_deg; "
                       "detail: millidegrees)",
-                      static_cast<std::int64_t>(sigma_deg * 1000.0 + 0.5));
+                      math::isFinite(sigma_deg) && sigma_deg < 1e6
+                          ? static_cast<std::int64_t>(std::floor(sigma_deg * 1000.0 + 0.5))
+                          : -1);
     }
     return Status::ok();
 }

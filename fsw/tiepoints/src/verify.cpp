@@ -278,7 +278,8 @@ Status thinByGrid(Span<const Match> matches, const ThinningConfig& grid, std::in
             if (m == k || keep[m] == 0U || cellOf(matches[m]) != cell) {
                 continue;
             }
-            const bool better = matches[m].score > matches[k].score || (matches[m].score == matches[k].score && m < k);
+            const bool earlier = m < k;  // ties go to the earlier match
+            const bool better = matches[m].score > matches[k].score || (matches[m].score == matches[k].score && earlier);
             if (better) {
                 keep[k] = 2U;
                 break;
