@@ -214,10 +214,15 @@ TEST(TiePoints, IntraTiesAtMostOnePerCell) {
     }
 }
 
+// Under qemu the second run is left out (a third of this suite's emulated time): there the
+// determinism suite's tiepoints section proves the target's bits equal to the host's.
 TEST(TiePoints, NoHeapAndSameBitsTwice) {
     const Scene& s = scene();
     ASSERT_TRUE(s.ok);
     const TieRun& first = sceneRun();
+#if defined(VTM_TEST_UNDER_EMULATOR)
+    EXPECT_EQ(first.heap_calls, 0U);
+#else
     const TieRun second = runOn(sceneConfig(), Span<const NetworkStation>(s.stations, kStations),
                              Span<const StationImages>(s.images, kStations));
     ASSERT_TRUE(second.status.isOk());
@@ -228,6 +233,7 @@ TEST(TiePoints, NoHeapAndSameBitsTwice) {
         EXPECT_EQ(first.obs[k].point, second.obs[k].point);
         EXPECT_EQ(std::memcmp(first.obs[k].pixel_px.data(), second.obs[k].pixel_px.data(), 2 * sizeof(double)), 0);
     }
+#endif
 }
 
 // The parallax check as the module runs it (on all of a station's left -> right matches,
