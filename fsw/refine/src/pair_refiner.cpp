@@ -45,17 +45,11 @@ Status checkImage(const ImageView<const std::uint8_t>& image, const CameraModel&
 }  // namespace
 
 features::DetectorConfig Config::detectorConfig() const noexcept {
-    features::DetectorConfig d = detector;
-    d.max_width = max_width;
-    d.max_height = max_height;
-    return d;
+    return detector.withCapacity(max_width, max_height);
 }
 
 features::MatcherConfig Config::matcherConfig() const noexcept {
-    features::MatcherConfig m = matcher;
-    m.max_width = max_width;
-    m.max_height = max_height;
-    return m;
+    return matcher.withCapacity(max_width, max_height);
 }
 
 Status Config::validate() const noexcept {

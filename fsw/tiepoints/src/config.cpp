@@ -24,17 +24,11 @@ terrain::HeightMapConfig mapConfig(const Config& c) noexcept {
 }  // namespace
 
 features::DetectorConfig Config::detectorConfig() const noexcept {
-    features::DetectorConfig d = detector;
-    d.max_width = max_width;
-    d.max_height = max_height;
-    return d;
+    return detector.withCapacity(max_width, max_height);
 }
 
 features::MatcherConfig Config::matcherConfig() const noexcept {
-    features::MatcherConfig m = matcher;
-    m.max_width = max_width;
-    m.max_height = max_height;
-    return m;
+    return matcher.withCapacity(max_width, max_height);
 }
 
 Status Config::validate() const noexcept {

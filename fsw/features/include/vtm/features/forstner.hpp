@@ -71,6 +71,14 @@ struct DetectorConfig {
     // count twice in motion refinement). 0 keeps them all. 0..16 px.
     float min_separation_px = 2.0F;
     // kOk, or kInvalidConfig naming the field, detail = its value (for floats: 0).
+    // This configuration with another capacity (what a module that states the capacity once
+    // for several sub-modules hands down).
+    [[nodiscard]] DetectorConfig withCapacity(std::int32_t width, std::int32_t height) const noexcept {
+        DetectorConfig c = *this;
+        c.max_width = width;
+        c.max_height = height;
+        return c;
+    }
     [[nodiscard]] Status validate() const noexcept;
 };
 

@@ -93,6 +93,14 @@ struct MatcherConfig {
     // drops the match (not_refined).
     bool refine_affine = true;
     AffineRefineConfig affine{};
+    // This configuration with another capacity (what a module that states the capacity once
+    // for several sub-modules hands down).
+    [[nodiscard]] MatcherConfig withCapacity(std::int32_t width, std::int32_t height) const noexcept {
+        MatcherConfig c = *this;
+        c.max_width = width;
+        c.max_height = height;
+        return c;
+    }
     [[nodiscard]] Status validate() const noexcept;
 };
 
