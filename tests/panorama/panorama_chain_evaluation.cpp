@@ -105,7 +105,6 @@ struct Chain {
     Status bundle_status;
     std::vector<bundle::StationSolution> stations;
     std::vector<bundle::PointSolution> solved;
-    std::vector<Vec3> initial;  // the adjuster's triangulation at the approximate stations
 };
 
 // Tie points per tier (a closed ring of `columns` stations), gathered into one network.
@@ -215,7 +214,7 @@ struct Figures {
     std::int32_t points = 0, observations = 0;
 };
 
-Figures measure(const World& w, Chain& c) {
+Figures measure(const World& w, const Chain& c) {
     Figures f;
     f.rms_before = c.result.rms_before_px;
     f.rms_after = c.result.rms_after_px;
@@ -223,8 +222,6 @@ Figures measure(const World& w, Chain& c) {
     f.observations = static_cast<std::int32_t>(c.obs.size());
     std::vector<std::vector<const TieObservation*>> of(c.points);
     for (const TieObservation& o : c.obs) of[o.point].push_back(&o);
-    std::vector<NetworkStation> adjusted = c.approx;
-    for (std::size_t s = 0; s < adjusted.size(); ++s) adjusted[s].site_from_a = c.stations[s].site_from_a;
     Band bands[] = {{0.0, 5.0, {}, {}}, {5.0, 10.0, {}, {}}, {10.0, 20.0, {}, {}}, {20.0, 1e9, {}, {}}};
     std::vector<double> all_before, all_after;
     std::int32_t wrong = 0, checked = 0;
