@@ -1,3 +1,4 @@
+#include "vtm/core/config_check.hpp"
 #include "vtm/app/descent_mapper.hpp"
 
 #include <cmath>
@@ -7,10 +8,6 @@
 
 namespace vtm::app {
 namespace {
-
-Status invalid(const char* reason, std::int64_t value = 0) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 // Element counts of the mapper's own buffers (the sweep and the height map plan their own).
 struct Buffers {
@@ -60,35 +57,35 @@ refine::Config descentRefineConfig() noexcept {
 Status DescentMapperConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(sweep.validate());
     VTM_RETURN_IF_ERROR(validateMount(mount));
-    if (!detail::inRange(relief_fraction, 0.01, 0.9)) {
-        return invalid("relief_fraction: must be 0.01..0.9");
+    if (!isInRange(relief_fraction, 0.01, 0.9)) {
+        return invalidConfig("relief_fraction: must be 0.01..0.9");
     }
-    if (!detail::inRange(parallax_factor, 0.0, 1000.0)) {
-        return invalid("parallax_factor: must be 0..1000");
+    if (!isInRange(parallax_factor, 0.0, 1000.0)) {
+        return invalidConfig("parallax_factor: must be 0..1000");
     }
     if (refine_pose) {
         VTM_RETURN_IF_ERROR(refineConfigOf(*this).validate());
-        if (!detail::inRange(attitude_sigma_rad, 0.0, math::kPi)) {
-            return invalid("attitude_sigma_rad: must be 0..pi");
+        if (!isInRange(attitude_sigma_rad, 0.0, math::kPi)) {
+            return invalidConfig("attitude_sigma_rad: must be 0..pi");
         }
-        if (!detail::inRange(feature_depth_margin, 0.0, 0.9)) {
-            return invalid("feature_depth_margin: must be 0..0.9");
+        if (!isInRange(feature_depth_margin, 0.0, 0.9)) {
+            return invalidConfig("feature_depth_margin: must be 0..0.9");
         }
     }
     if (orbital.enabled) {
         if (!refine_pose) {
-            return invalid("orbital.enabled: needs refine_pose (locate places the refined features)");
+            return invalidConfig("orbital.enabled: needs refine_pose (locate places the refined features)");
         }
         VTM_RETURN_IF_ERROR(orbital.validate());
     }
     if (grid_cells < 16 || grid_cells > kMaxGridCells) {
-        return invalid("grid_cells: must be 16..4096", grid_cells);
+        return invalidConfig("grid_cells: must be 16..4096", grid_cells);
     }
-    if (!detail::inRange(grid_cell_m, 0.0, 1.0e4)) {
-        return invalid("grid_cell_m: must be 0 (one pixel at the camera height) or a cell in metres up to 1e4");
+    if (!isInRange(grid_cell_m, 0.0, 1.0e4)) {
+        return invalidConfig("grid_cell_m: must be 0 (one pixel at the camera height) or a cell in metres up to 1e4");
     }
     if (!heightMapOf(*this).validate().isOk()) {
-        return invalid("grid_reducer: must be kHighest, kMean or kLowest", static_cast<std::int64_t>(grid_reducer));
+        return invalidConfig("grid_reducer: must be kHighest, kMean or kLowest", static_cast<std::int64_t>(grid_reducer));
     }
     return Status::ok();
 }

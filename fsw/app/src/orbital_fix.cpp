@@ -1,3 +1,4 @@
+#include "vtm/core/config_check.hpp"
 #include "vtm/app/orbital_fix.hpp"
 
 #include "vtm/core/image_pyramid.hpp"
@@ -10,8 +11,6 @@ namespace {
 constexpr std::int32_t kMaxHalvings = 8;  // a 4096-px frame down to 16 px
 constexpr std::int32_t kMinRegistrationPx = 16;
 constexpr std::size_t kHistogramBins = 1024U;  // a frame's top 10 bits
-
-Status invalid(const char* reason) noexcept { return Status(StatusCode::kInvalidConfig, reason); }
 
 Status badMap(const char* reason) noexcept { return Status(StatusCode::kInvalidArgument, reason); }
 
@@ -138,10 +137,10 @@ Status validateOrbitalMap(const OrbitalMap& map) noexcept {
         return Status(StatusCode::kInvalidArgument, "orbital map: bit_depth must be 8 for image8, 9..16 for image16",
                       map.bit_depth);
     }
-    if (!detail::inRange(map.geo.cell_m, 1e-3, 1e3)) {
+    if (!isInRange(map.geo.cell_m, 1e-3, 1e3)) {
         return badMap("orbital map: geo.cell_m must be 1e-3..1e3 m");
     }
-    if (!detail::inRange(map.geo.north0_m, -1e7, 1e7) || !detail::inRange(map.geo.east0_m, -1e7, 1e7)) {
+    if (!isInRange(map.geo.north0_m, -1e7, 1e7) || !isInRange(map.geo.east0_m, -1e7, 1e7)) {
         return badMap("orbital map: geo.north0_m/east0_m must be finite, within 1e7 m");
     }
     return Status::ok();
@@ -149,20 +148,20 @@ Status validateOrbitalMap(const OrbitalMap& map) noexcept {
 
 Status OrbitalFixConfig::validate() const noexcept {
     VTM_RETURN_IF_ERROR(registration.validate());
-    if (!detail::inRange(min_pixel_cells, 0.1, 4.0)) return invalid("orbital.min_pixel_cells: must be 0.1..4");
-    if (!detail::inRange(angle_range_rad, 0.0, math::kPi)) return invalid("orbital.angle_range_rad: must be 0..pi");
-    if (!detail::inRange(scale_range, 0.01, 0.9)) return invalid("orbital.scale_range: must be 0.01..0.9");
-    if (!detail::inRange(shift_sigmas, 0.0, 10.0)) return invalid("orbital.shift_sigmas: must be 0..10");
-    if (!detail::inRange(shift_margin_px, 0.0, 1000.0)) return invalid("orbital.shift_margin_px: must be 0..1000");
-    if (!detail::inRange(min_ncc, 0.0, 1.0)) return invalid("orbital.min_ncc: must be 0..1");
-    if (!detail::inRange(max_peak_ratio, 1e-6, 1.0)) return invalid("orbital.max_peak_ratio: must be in (0, 1]");
-    if (!detail::inRange(max_residual_px, 1e-6, 1e6)) return invalid("orbital.max_residual_px: must be > 0");
-    if (!detail::inRange(max_position_disagreement_px, 1e-6, 1e6)) {
-        return invalid("orbital.max_position_disagreement_px: must be > 0");
+    if (!isInRange(min_pixel_cells, 0.1, 4.0)) return invalidConfig("orbital.min_pixel_cells: must be 0.1..4");
+    if (!isInRange(angle_range_rad, 0.0, math::kPi)) return invalidConfig("orbital.angle_range_rad: must be 0..pi");
+    if (!isInRange(scale_range, 0.01, 0.9)) return invalidConfig("orbital.scale_range: must be 0.01..0.9");
+    if (!isInRange(shift_sigmas, 0.0, 10.0)) return invalidConfig("orbital.shift_sigmas: must be 0..10");
+    if (!isInRange(shift_margin_px, 0.0, 1000.0)) return invalidConfig("orbital.shift_margin_px: must be 0..1000");
+    if (!isInRange(min_ncc, 0.0, 1.0)) return invalidConfig("orbital.min_ncc: must be 0..1");
+    if (!isInRange(max_peak_ratio, 1e-6, 1.0)) return invalidConfig("orbital.max_peak_ratio: must be in (0, 1]");
+    if (!isInRange(max_residual_px, 1e-6, 1e6)) return invalidConfig("orbital.max_residual_px: must be > 0");
+    if (!isInRange(max_position_disagreement_px, 1e-6, 1e6)) {
+        return invalidConfig("orbital.max_position_disagreement_px: must be > 0");
     }
-    if (!detail::inRange(max_scale_change, 1e-6, 1.0)) return invalid("orbital.max_scale_change: must be in (0, 1]");
-    if (!detail::inRange(max_scale_disagreement, 1e-6, 1.0)) {
-        return invalid("orbital.max_scale_disagreement: must be in (0, 1]");
+    if (!isInRange(max_scale_change, 1e-6, 1.0)) return invalidConfig("orbital.max_scale_change: must be in (0, 1]");
+    if (!isInRange(max_scale_disagreement, 1e-6, 1.0)) {
+        return invalidConfig("orbital.max_scale_disagreement: must be in (0, 1]");
     }
     return Status::ok();
 }

@@ -89,10 +89,6 @@ bool refinementIsCertainEnough(double refined_sigma_rad, double odometry_sigma_r
     return refined_sigma_rad <= max_ratio * odometry_sigma_rad;  // false for NaN too
 }
 
-bool inRange(double value, double lo, double hi) noexcept {
-    return math::isFinite(value) && value >= lo && value <= hi;
-}
-
 Status poseStage(hal::Odometry& odometry, StageLog& log, hal::EventLog& events, const hal::Clock& clock,
                  Stage stage, const hal::FrameInfo& frame, hal::PoseEstimate& pose) noexcept {
     const std::uint64_t t0 = clock.monotonicNs();

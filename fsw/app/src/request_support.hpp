@@ -52,9 +52,6 @@ void toGrey8(const ImageView<const std::uint16_t>& in, std::uint8_t bit_depth,
 // Position sigma (mm) of a pose: sqrt of the trace of its position covariance.
 [[nodiscard]] std::int64_t positionSigmaMm(const hal::PoseEstimate& pose) noexcept;
 
-// Finite and within [lo, hi] (config checks).
-[[nodiscard]] bool inRange(double value, double lo, double hi) noexcept;
-
 // Appends a record of `stage` (begun at t0_ns on `clock`) to `log` and mirrors it to
 // `events` (stage_log.hpp has the event layout). Returns `status`.
 Status recordStage(StageLog& log, hal::EventLog& events, const hal::Clock& clock, Stage stage,

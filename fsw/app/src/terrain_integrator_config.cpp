@@ -4,6 +4,7 @@
 #include <new>
 
 #include "request_support.hpp"
+#include "vtm/core/config_check.hpp"
 
 namespace vtm::app {
 namespace {
@@ -35,7 +36,7 @@ Status IntegratorConfig::validate() const noexcept {
         return Status(StatusCode::kInvalidConfig,
                       "integrator.registration_level: outside 0..min(octree.max_depth, 12)", registration_level);
     }
-    if (!detail::inRange(window_margin_m, 0.0, 1e4)) {
+    if (!isInRange(window_margin_m, 0.0, 1e4)) {
         return Status(StatusCode::kInvalidConfig, "integrator.window_margin_m: outside [0, 1e4]");
     }
     if (max_input_points < 1 || max_input_points > kMaxInputPointsLimit) {

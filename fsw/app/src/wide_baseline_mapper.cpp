@@ -1,3 +1,4 @@
+#include "vtm/core/config_check.hpp"
 #include "vtm/app/wide_baseline_mapper.hpp"
 
 #include <cmath>
@@ -14,10 +15,6 @@ using detail::carve;
 using detail::toGrey8;
 
 constexpr double kDegPerRad = 180.0 / math::kPi;
-
-Status invalid(const char* reason, std::int64_t value = 0) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 struct Sizes {
     std::size_t frame;      // pixels of one frame
@@ -86,32 +83,32 @@ stereo::PyramidConfig wideBaselineStereoConfig() noexcept {
 Status WideBaselineMapperConfig::validate() const noexcept {
     if (frame_width < 16 || frame_width > rectify::kMaxImageSide || frame_height < 16 ||
         frame_height > rectify::kMaxImageSide) {
-        return invalid("frame_width/frame_height: must be 16..4094", frame_width);
+        return invalidConfig("frame_width/frame_height: must be 16..4094", frame_width);
     }
     VTM_RETURN_IF_ERROR(validateMount(mount));
     VTM_RETURN_IF_ERROR(refineConfigOf(*this).validate());
     if (!math::isFinite(range_min_m) || !math::isFinite(range_max_m) || !(range_min_m > 0.0) ||
         !(range_max_m > range_min_m)) {
-        return invalid("range_min_m/range_max_m: need 0 < range_min_m < range_max_m, finite");
+        return invalidConfig("range_min_m/range_max_m: need 0 < range_min_m < range_max_m, finite");
     }
     VTM_RETURN_IF_ERROR(rectifyConfigOf(*this).validate());
     VTM_RETURN_IF_ERROR(stereoConfigOf(*this).validate());
     VTM_RETURN_IF_ERROR(limitsOf(*this).validate());
     VTM_RETURN_IF_ERROR(height_map.validate());
-    if (!detail::inRange(attitude_sigma_rad, 0.0, math::kPi)) {
-        return invalid("attitude_sigma_rad: must be 0..pi");
+    if (!isInRange(attitude_sigma_rad, 0.0, math::kPi)) {
+        return invalidConfig("attitude_sigma_rad: must be 0..pi");
     }
-    if (!(max_refined_sigma_ratio == 0.0 || detail::inRange(max_refined_sigma_ratio, 0.5, 100.0))) {
-        return invalid("max_refined_sigma_ratio: must be 0 (off) or 0.5..100");
+    if (!(max_refined_sigma_ratio == 0.0 || isInRange(max_refined_sigma_ratio, 0.5, 100.0))) {
+        return invalidConfig("max_refined_sigma_ratio: must be 0 (off) or 0.5..100");
     }
-    if (!detail::inRange(relief_below_m, 0.0, 1000.0)) {
-        return invalid("relief_below_m: must be 0..1000");
+    if (!isInRange(relief_below_m, 0.0, 1000.0)) {
+        return invalidConfig("relief_below_m: must be 0..1000");
     }
-    if (!detail::inRange(min_baseline_m, 0.01, 100.0)) {
-        return invalid("min_baseline_m: must be 0.01..100");
+    if (!isInRange(min_baseline_m, 0.01, 100.0)) {
+        return invalidConfig("min_baseline_m: must be 0.01..100");
     }
     if (exposure_tolerance_percent < 1 || exposure_tolerance_percent > 100) {
-        return invalid("exposure_tolerance_percent: must be 1..100");
+        return invalidConfig("exposure_tolerance_percent: must be 1..100");
     }
     VTM_RETURN_IF_ERROR(speckleConfigOf(*this).validate());
     return Status::ok();

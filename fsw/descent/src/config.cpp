@@ -1,14 +1,11 @@
 // Configuration checks, the workspace formula and init() of the plane sweep.
+#include "vtm/core/config_check.hpp"
 #include "vtm/descent/plane_sweep.hpp"
 
 #include <cmath>
 
 namespace vtm::descent {
 namespace {
-
-Status invalid(const char* reason, std::int64_t value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 bool finite(double v) noexcept { return std::isfinite(v); }
 
@@ -36,34 +33,34 @@ Sizes sizesOf(const Config& c) noexcept {
 
 Status Config::validate() const noexcept {
     if (max_width < 16 || max_width > 4096) {
-        return invalid("max_width: must be 16..4096 px", max_width);
+        return invalidConfig("max_width: must be 16..4096 px", max_width);
     }
     if (max_height < 16 || max_height > 4096) {
-        return invalid("max_height: must be 16..4096 px", max_height);
+        return invalidConfig("max_height: must be 16..4096 px", max_height);
     }
     if (planes < 3 || planes > kMaxPlanes) {
-        return invalid("planes: must be 3..256", planes);
+        return invalidConfig("planes: must be 3..256", planes);
     }
     if (!finite(depth_min_m) || !(depth_min_m > 0.0) || depth_min_m > 1.0e7) {
-        return invalid("depth_min_m: must be a finite number > 0 (metres, at most 1e7)", 0);
+        return invalidConfig("depth_min_m: must be a finite number > 0 (metres, at most 1e7)", 0);
     }
     if (!finite(depth_max_m) || !(depth_max_m > depth_min_m) || depth_max_m > 1.0e7) {
-        return invalid("depth_max_m: must be finite and > depth_min_m (metres, at most 1e7)", 0);
+        return invalidConfig("depth_max_m: must be finite and > depth_min_m (metres, at most 1e7)", 0);
     }
     if (window < 3 || window > 31 || (window % 2) != 1) {
-        return invalid("window: must be odd, 3..31 px", window);
+        return invalidConfig("window: must be odd, 3..31 px", window);
     }
     if (window > max_width || window > max_height) {
-        return invalid("window: larger than max_width or max_height", window);
+        return invalidConfig("window: larger than max_width or max_height", window);
     }
     if (score != Score::kSad && score != Score::kNcc) {
-        return invalid("score: unknown value (kSad or kNcc)", static_cast<std::int64_t>(score));
+        return invalidConfig("score: unknown value (kSad or kNcc)", static_cast<std::int64_t>(score));
     }
     if (!finite(min_parallax_px) || min_parallax_px < 0.0 || min_parallax_px > 1000.0) {
-        return invalid("min_parallax_px: must be 0..1000 (image-2 pixels)", 0);
+        return invalidConfig("min_parallax_px: must be 0..1000 (image-2 pixels)", 0);
     }
     if (band_rows < 1 || band_rows > max_height) {
-        return invalid("band_rows: must be 1..max_height", band_rows);
+        return invalidConfig("band_rows: must be 1..max_height", band_rows);
     }
     return Status::ok();
 }

@@ -1,4 +1,5 @@
 // Local-entropy image: running column histograms and a tabulated n log2 n (local_entropy.hpp).
+#include "vtm/core/config_check.hpp"
 #include "vtm/entropy/local_entropy.hpp"
 
 #include <cmath>
@@ -7,10 +8,6 @@
 
 namespace vtm::entropy {
 namespace {
-
-Status invalid(const char* reason, std::int64_t value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 bool isPowerOfTwo(std::int32_t v) noexcept { return v > 0 && (v & (v - 1)) == 0; }
 
@@ -33,19 +30,19 @@ std::size_t columnOffset(std::int32_t x, std::int32_t bins) noexcept {
 
 Status EntropyConfig::validate() const noexcept {
     if (max_width < 8 || max_width > 8192) {
-        return invalid("entropy.max_width: must be 8..8192 px", max_width);
+        return invalidConfig("entropy.max_width: must be 8..8192 px", max_width);
     }
     if (max_height < 8 || max_height > 8192) {
-        return invalid("entropy.max_height: must be 8..8192 px", max_height);
+        return invalidConfig("entropy.max_height: must be 8..8192 px", max_height);
     }
     if (window < 3 || window > kMaxWindow || (window % 2) != 1) {
-        return invalid("entropy.window: must be odd, 3..31 px", window);
+        return invalidConfig("entropy.window: must be odd, 3..31 px", window);
     }
     if (!isPowerOfTwo(bins) || bins < 2 || bins > kMaxBins) {
-        return invalid("entropy.bins: must be a power of two, 2..64", bins);
+        return invalidConfig("entropy.bins: must be a power of two, 2..64", bins);
     }
     if (input_bits < 8 || input_bits > 16) {
-        return invalid("entropy.input_bits: must be 8..16", input_bits);
+        return invalidConfig("entropy.input_bits: must be 8..16", input_bits);
     }
     return Status::ok();
 }

@@ -1,14 +1,11 @@
 // Configuration checks, the workspace formula and init() of the entropy registration.
+#include "vtm/core/config_check.hpp"
 #include "vtm/entropy/registration.hpp"
 
 #include <cmath>
 
 namespace vtm::entropy {
 namespace {
-
-Status invalid(const char* reason, std::int64_t value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 bool inUnitInterval(double v, bool zeroAllowed) noexcept {
     return std::isfinite(v) && v <= 1.0 && (zeroAllowed ? v >= 0.0 : v > 0.0);
@@ -52,48 +49,48 @@ std::size_t shiftCount(const RegistrationConfig& c) noexcept {
 
 Status RegistrationConfig::validate() const noexcept {
     if (max_width < 16 || max_width > 4096) {
-        return invalid("registration.max_width: must be 16..4096 px", max_width);
+        return invalidConfig("registration.max_width: must be 16..4096 px", max_width);
     }
     if (max_height < 16 || max_height > 4096) {
-        return invalid("registration.max_height: must be 16..4096 px", max_height);
+        return invalidConfig("registration.max_height: must be 16..4096 px", max_height);
     }
     VTM_RETURN_IF_ERROR(entropyOf(*this).validate());
     if (representation != Representation::kEntropy && representation != Representation::kIntensity) {
-        return invalid("registration.representation: unknown value (kEntropy or kIntensity)",
+        return invalidConfig("registration.representation: unknown value (kEntropy or kIntensity)",
                        static_cast<std::int64_t>(representation));
     }
     if (fill_max_grey < -1 || fill_max_grey > 254) {
-        return invalid("registration.fill_max_grey: must be -1 (none) .. 254", fill_max_grey);
+        return invalidConfig("registration.fill_max_grey: must be -1 (none) .. 254", fill_max_grey);
     }
     if (levels < 1 || levels > kMaxLevels) {
-        return invalid("registration.levels: must be 1..6", levels);
+        return invalidConfig("registration.levels: must be 1..6", levels);
     }
     if ((max_width >> (levels - 1)) < 8 || (max_height >> (levels - 1)) < 8) {
-        return invalid("registration.levels: the coarse level of max_width x max_height is below 8 px", levels);
+        return invalidConfig("registration.levels: the coarse level of max_width x max_height is below 8 px", levels);
     }
     if (max_angle_steps < 1 || max_angle_steps > 1024) {
-        return invalid("registration.max_angle_steps: must be 1..1024", max_angle_steps);
+        return invalidConfig("registration.max_angle_steps: must be 1..1024", max_angle_steps);
     }
     if (max_scale_steps < 1 || max_scale_steps > 256) {
-        return invalid("registration.max_scale_steps: must be 1..256", max_scale_steps);
+        return invalidConfig("registration.max_scale_steps: must be 1..256", max_scale_steps);
     }
     if (max_shift_steps < 1 || max_shift_steps > 129 || (max_shift_steps % 2) != 1) {
-        return invalid("registration.max_shift_steps: must be odd, 1..129", max_shift_steps);
+        return invalidConfig("registration.max_shift_steps: must be odd, 1..129", max_shift_steps);
     }
     if (candidates < 1 || candidates > kMaxCandidates) {
-        return invalid("registration.candidates: must be 1..16", candidates);
+        return invalidConfig("registration.candidates: must be 1..16", candidates);
     }
     if (refine_rounds < 1 || refine_rounds > 64) {
-        return invalid("registration.refine_rounds: must be 1..64", refine_rounds);
+        return invalidConfig("registration.refine_rounds: must be 1..64", refine_rounds);
     }
     if (!inUnitInterval(min_overlap, false)) {
-        return invalid("registration.min_overlap: must be in (0, 1] (fraction of image 1)", 0);
+        return invalidConfig("registration.min_overlap: must be in (0, 1] (fraction of image 1)", 0);
     }
     if (!inUnitInterval(min_ncc, true)) {
-        return invalid("registration.min_ncc: must be in [0, 1]", 0);
+        return invalidConfig("registration.min_ncc: must be in [0, 1]", 0);
     }
     if (!inUnitInterval(max_peak_ratio, false)) {
-        return invalid("registration.max_peak_ratio: must be in (0, 1]", 0);
+        return invalidConfig("registration.max_peak_ratio: must be in (0, 1]", 0);
     }
     return Status::ok();
 }

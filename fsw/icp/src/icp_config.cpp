@@ -1,80 +1,70 @@
 // Configuration checks, the workspace formula and init() of the ICP.
 #include <cmath>
 
+#include "vtm/core/config_check.hpp"
 #include "vtm/icp/icp.hpp"
 
 namespace vtm::icp {
 namespace {
 
-Status invalid(const char* reason, std::int64_t value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
-
-bool positive(double v) noexcept { return std::isfinite(v) && v > 0.0; }
-
-// Milli-units of a double field for the detail (the value itself is not an integer).
-std::int64_t milli(double v) noexcept {
-    return std::isfinite(v) && std::fabs(v) < 1e15 ? static_cast<std::int64_t>(v * 1000.0) : -1;
-}
-
 Status validateCapacities(const IcpConfig& c) noexcept {
     if (c.max_model_points < 16 || c.max_model_points > kMaxModelPointsLimit) {
-        return invalid("icp.max_model_points: must be 16..1048576", c.max_model_points);
+        return invalidConfig("icp.max_model_points: must be 16..1048576", c.max_model_points);
     }
     if (c.max_data_points < 16 || c.max_data_points > kMaxDataPointsLimit) {
-        return invalid("icp.max_data_points: must be 16..262144", c.max_data_points);
+        return invalidConfig("icp.max_data_points: must be 16..262144", c.max_data_points);
     }
     if (c.leaf_size < 2 || c.leaf_size > 64) {
-        return invalid("icp.leaf_size: must be 2..64", c.leaf_size);
+        return invalidConfig("icp.leaf_size: must be 2..64", c.leaf_size);
     }
     if (c.max_leaves < 1 || c.max_leaves > 4096) {
-        return invalid("icp.max_leaves: must be 1..4096", c.max_leaves);
+        return invalidConfig("icp.max_leaves: must be 1..4096", c.max_leaves);
     }
     if (c.normal_neighbours < 6 || c.normal_neighbours > kMaxNeighbours) {
-        return invalid("icp.normal_neighbours: must be 6..32", c.normal_neighbours);
+        return invalidConfig("icp.normal_neighbours: must be 6..32", c.normal_neighbours);
     }
-    if (!positive(c.normal_radius_m)) {
-        return invalid("icp.normal_radius_m: must be > 0 (milli-metres in detail)", milli(c.normal_radius_m));
+    if (!isPositiveFinite(c.normal_radius_m)) {
+        return invalidConfig("icp.normal_radius_m: must be > 0 (milli-metres in detail)", milliUnits(c.normal_radius_m));
     }
-    if (!positive(c.max_surface_variation) || c.max_surface_variation > 1.0 / 3.0) {
-        return invalid("icp.max_surface_variation: must be in (0, 1/3] (milli in detail)", milli(c.max_surface_variation));
+    if (!isPositiveFinite(c.max_surface_variation) || c.max_surface_variation > 1.0 / 3.0) {
+        return invalidConfig("icp.max_surface_variation: must be in (0, 1/3] (milli in detail)", milliUnits(c.max_surface_variation));
     }
     return Status::ok();
 }
 
 Status validateFit(const IcpConfig& c) noexcept {
-    if (!positive(c.min_gate_m)) {
-        return invalid("icp.min_gate_m: must be > 0 (milli-metres in detail)", milli(c.min_gate_m));
+    if (!isPositiveFinite(c.min_gate_m)) {
+        return invalidConfig("icp.min_gate_m: must be > 0 (milli-metres in detail)", milliUnits(c.min_gate_m));
     }
-    if (!positive(c.initial_gate_m) || c.initial_gate_m < c.min_gate_m) {
-        return invalid("icp.initial_gate_m: must be >= min_gate_m (milli-metres in detail)", milli(c.initial_gate_m));
+    if (!isPositiveFinite(c.initial_gate_m) || c.initial_gate_m < c.min_gate_m) {
+        return invalidConfig("icp.initial_gate_m: must be >= min_gate_m (milli-metres in detail)", milliUnits(c.initial_gate_m));
     }
-    if (!positive(c.gate_shrink) || c.gate_shrink > 1.0) {
-        return invalid("icp.gate_shrink: must be in (0, 1] (milli in detail)", milli(c.gate_shrink));
+    if (!isPositiveFinite(c.gate_shrink) || c.gate_shrink > 1.0) {
+        return invalidConfig("icp.gate_shrink: must be in (0, 1] (milli in detail)", milliUnits(c.gate_shrink));
     }
-    if (!positive(c.huber_k)) {
-        return invalid("icp.huber_k: must be > 0 (milli in detail)", milli(c.huber_k));
+    if (!isPositiveFinite(c.huber_k)) {
+        return invalidConfig("icp.huber_k: must be > 0 (milli in detail)", milliUnits(c.huber_k));
     }
-    if (!positive(c.min_sigma_m)) {
-        return invalid("icp.min_sigma_m: must be > 0 (milli-metres in detail)", milli(c.min_sigma_m));
+    if (!isPositiveFinite(c.min_sigma_m)) {
+        return invalidConfig("icp.min_sigma_m: must be > 0 (milli-metres in detail)", milliUnits(c.min_sigma_m));
     }
     if (c.max_iterations < 1 || c.max_iterations > 200) {
-        return invalid("icp.max_iterations: must be 1..200", c.max_iterations);
+        return invalidConfig("icp.max_iterations: must be 1..200", c.max_iterations);
     }
-    if (!positive(c.converge_rotation_rad)) {
-        return invalid("icp.converge_rotation_rad: must be > 0", milli(c.converge_rotation_rad));
+    if (!isPositiveFinite(c.converge_rotation_rad)) {
+        return invalidConfig("icp.converge_rotation_rad: must be > 0", milliUnits(c.converge_rotation_rad));
     }
-    if (!positive(c.converge_translation_m)) {
-        return invalid("icp.converge_translation_m: must be > 0", milli(c.converge_translation_m));
+    if (!isPositiveFinite(c.converge_translation_m)) {
+        return invalidConfig("icp.converge_translation_m: must be > 0", milliUnits(c.converge_translation_m));
     }
-    if (!positive(c.min_overlap) || c.min_overlap > 1.0) {
-        return invalid("icp.min_overlap: must be in (0, 1] (milli in detail)", milli(c.min_overlap));
+    if (!isPositiveFinite(c.min_overlap) || c.min_overlap > 1.0) {
+        return invalidConfig("icp.min_overlap: must be in (0, 1] (milli in detail)", milliUnits(c.min_overlap));
     }
     if (c.min_correspondences < 12 || c.min_correspondences > c.max_data_points) {
-        return invalid("icp.min_correspondences: must be 12..max_data_points", c.min_correspondences);
+        return invalidConfig("icp.min_correspondences: must be 12..max_data_points", c.min_correspondences);
     }
-    if (!positive(c.min_eigen_ratio) || c.min_eigen_ratio >= 1.0) {
-        return invalid("icp.min_eigen_ratio: must be in (0, 1) (milli in detail)", milli(c.min_eigen_ratio));
+    if (!isPositiveFinite(c.min_eigen_ratio) || c.min_eigen_ratio >= 1.0) {
+        return invalidConfig("icp.min_eigen_ratio: must be in (0, 1) (milli in detail)", milliUnits(c.min_eigen_ratio));
     }
     return Status::ok();
 }

@@ -1,14 +1,11 @@
 // PyramidStereo: the coarse search, the prior, the full-resolution search (see the header).
+#include "vtm/core/config_check.hpp"
 #include "vtm/stereo/pyramid_stereo.hpp"
 
 #include "vtm/core/image_pyramid.hpp"
 
 namespace vtm::stereo {
 namespace {
-
-Status invalid(const char* reason, std::int64_t value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 // Floor and ceiling of a / b for b > 0.
 std::int32_t floorDiv(std::int32_t a, std::int32_t b) noexcept {
@@ -49,25 +46,25 @@ std::int64_t roundDiv(std::int64_t a, std::int64_t b) noexcept {
 
 Status PyramidConfig::validate() const noexcept {
     if (levels < 1 || levels > 3) {
-        return invalid("levels: must be 1..3", levels);
+        return invalidConfig("levels: must be 1..3", levels);
     }
     if (coarse_disparities < 3 || coarse_disparities > 1024) {
-        return invalid("coarse_disparities: must be 3..1024", coarse_disparities);
+        return invalidConfig("coarse_disparities: must be 3..1024", coarse_disparities);
     }
     if (coarse_window < 3 || coarse_window > 31 || coarse_window % 2 == 0) {
-        return invalid("coarse_window: must be odd, 3..31 px", coarse_window);
+        return invalidConfig("coarse_window: must be odd, 3..31 px", coarse_window);
     }
     if (coarse_lr_max_diff_px < -1 || coarse_lr_max_diff_px > 16) {
-        return invalid("coarse_lr_max_diff_px: must be -1..16", coarse_lr_max_diff_px);
+        return invalidConfig("coarse_lr_max_diff_px: must be -1..16", coarse_lr_max_diff_px);
     }
     if (fine_radius_px < 1 || fine_radius_px > 64) {
-        return invalid("fine_radius_px: must be 1..64", fine_radius_px);
+        return invalidConfig("fine_radius_px: must be 1..64", fine_radius_px);
     }
     if (fill_reach_px < 0 || fill_reach_px > 64) {
-        return invalid("fill_reach_px: must be 0..64 coarse px", fill_reach_px);
+        return invalidConfig("fill_reach_px: must be 0..64 coarse px", fill_reach_px);
     }
     if (coarseSize(max_width, levels) < 8 || coarseSize(max_height, levels) < 8) {
-        return invalid("levels: the coarse level of max_width x max_height must be at least 8 x 8 px", levels);
+        return invalidConfig("levels: the coarse level of max_width x max_height must be at least 8 x 8 px", levels);
     }
     VTM_RETURN_IF_ERROR(fineConfig().validate());
     return coarseConfig().validate();
