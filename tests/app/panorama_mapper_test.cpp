@@ -204,6 +204,8 @@ TEST(PanoramaMapper, SmallPanoramaAgainstTheTruthWithoutHeapAfterInit) {
     ASSERT_TRUE(run.init(smallConfig(w)).isOk());
     EXPECT_EQ(run.mapper->products(), nullptr);
     EXPECT_LE(run.mapper->memoryBytes(), PanoramaMapper::workspaceBytes(smallConfig(w)));
+    std::printf("[ panorama ] memory: workspaceBytes %zu, init took %zu, mapper object %zu bytes\n",
+                PanoramaMapper::workspaceBytes(smallConfig(w)), run.mapper->memoryBytes(), sizeof(PanoramaMapper));
     Status st;
     {
         test::NoHeapScope guard;
@@ -276,6 +278,7 @@ void expectRefused(const PanoramaMapperConfig& c, const char* field) {
 TEST(PanoramaMapper, BadConfigsAreRefusedNamingTheField) {
     PanoramaMapperConfig c;
     EXPECT_TRUE(c.validate().isOk()) << c.validate().reason();
+    std::printf("[ panorama ] default configuration: workspaceBytes %zu\n", PanoramaMapper::workspaceBytes(c));
     c.max_stations = 1;
     expectRefused(c, "max_stations");
     c = PanoramaMapperConfig{};
