@@ -166,6 +166,30 @@ TEST_F(VtmRunCli, FliesTheBuiltInRoverPairAndItsRangeMatchesTheRenderedTruth) {
     }
 }
 
+// A panorama scenario (the small one of the tests, 16 stations of 128 x 128) flown through
+// app::PanoramaMapper: its section and pictures in the report, its products on disk (the
+// products' accuracy against the truth is gated by tests/app/panorama_mapper_test.cpp).
+TEST_F(VtmRunCli, FliesAPanoramaThroughTheExecutive) {
+    std::string err;
+    const std::string out = dir_ + "/run";
+    ASSERT_EQ(run("'" VTM_EXECUTABLE "' run '" VTM_SCENARIO_DIR "/test_panorama_small.scn' --out '" + out + "'", dir_,
+                  err),
+              0)
+        << err;
+    EXPECT_NE(err.find("panorama mapped"), std::string::npos) << err;
+    const std::string md = slurp(out + "/report.md");
+    EXPECT_NE(md.find("## Panorama"), std::string::npos);
+    EXPECT_NE(md.find("image RMS before -> after"), std::string::npos);
+    EXPECT_NE(md.find("![orthophoto](panorama_orthophoto.png)"), std::string::npos);
+    EXPECT_NE(slurp(out + "/report.html").find("<img src=\"panorama_elevation.png\">"), std::string::npos);
+    const auto elevation = vtm::ground::readPfm(out + "/panorama_elevation.pfm");
+    ASSERT_TRUE(elevation.ok) << elevation.error;
+    EXPECT_EQ(elevation.value.width, 80);
+    for (const char* f : {"panorama_orthophoto.png", "panorama_left0.png", "panorama_variance.pfm"}) {
+        EXPECT_GT(slurp(out + "/" + f).size(), 100U) << f;
+    }
+}
+
 // --link: the same descent flown against a separate `vtm-sim serve` over a Unix socket
 // (hal/link) gives the same bits as in process: the frames and poses that cross the link
 // are the simulated drivers' exactly.
@@ -200,7 +224,7 @@ TEST_F(VtmRunCli, BadInputsExitNonZeroWithOneLineNamingTheInput) {
     EXPECT_NE(err.find("missing.scn: cannot open"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     EXPECT_EQ(run("'" VTM_EXECUTABLE "' run '" VTM_SCENARIO_DIR "/traverse.scn' --out '" + dir_ + "/o'", dir_, err), 1);
-    EXPECT_NE(err.find("traverse.scn: vtm run flies rover_pair and descent scenarios"), std::string::npos) << err;
+    EXPECT_NE(err.find("traverse.scn: vtm run flies rover_pair, descent and panorama scenarios"), std::string::npos) << err;
     EXPECT_EQ(run("'" VTM_EXECUTABLE "' run --size 8 --out '" + dir_ + "/o'", dir_, err), 1);
     EXPECT_NE(err.find("--size 8: must be 64..2048"), std::string::npos) << err;
     std::ofstream(dir_ + "/bad.scn") << "name x\nkind descent\nseed nope\n";

@@ -13,6 +13,7 @@
 #include "build_info.hpp"
 #include "default_scenarios.hpp"
 #include "run_drivers.hpp"
+#include "run_panorama.hpp"
 #include "run_rover.hpp"
 #include "run_target.hpp"
 #include "vtm/ground/exit_codes.hpp"
@@ -68,8 +69,13 @@ std::string scenarioText(const std::string& name, std::string& text, std::string
         label = "built-in rover pair (sim/scenarios/rover_wide_baseline.scn)";
         return "";
     }
+    if (name == "panorama") {
+        text = kDefaultPanoramaScenario;
+        label = "built-in panorama (sim/scenarios/panorama.scn at " + std::to_string(kPanoramaSidePx) + " px)";
+        return "";
+    }
     std::ifstream in(name, std::ios::binary);
-    if (!in) return name + ": cannot open (a scenario file, or one of the built-ins: rover, descent)";
+    if (!in) return name + ": cannot open (a scenario file, or one of the built-ins: rover, descent, panorama)";
     std::stringstream s;
     s << in.rdbuf();
     text = s.str();
@@ -88,9 +94,10 @@ std::string buildWorld(const RunOptions& o, std::string text, const std::string&
     sim::Scenario probe;
     const Status st = sim::parseScenario(text, probe);
     if (!st.isOk()) return label + ": line " + std::to_string(st.detail()) + ": " + st.reason();
-    if (probe.kind != sim::ScenarioKind::kDescent && probe.kind != sim::ScenarioKind::kRoverPair) {
-        return label + ": vtm run flies rover_pair and descent scenarios (this one is neither: a traverse has no "
-                       "executive yet)";
+    if (probe.kind != sim::ScenarioKind::kDescent && probe.kind != sim::ScenarioKind::kRoverPair &&
+        probe.kind != sim::ScenarioKind::kPanorama) {
+        return label + ": vtm run flies rover_pair, descent and panorama scenarios (this one is none of them: a "
+                       "traverse has no executive yet)";
     }
     std::fprintf(stderr, "vtm run: building the world of %s\n", label.c_str());
     const std::string built = ground::buildSimWorld(text, w);
@@ -423,7 +430,8 @@ std::string flyDescent(const World& world, hal::Camera& camera, hal::Odometry& o
 CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
     CLI::App* cmd = app.add_subcommand("run", "fly a simulated mission in process and write products and a report");
     cmd->add_option("SCENARIO", o.scenario,
-                    "scenario file, or a built-in: rover, descent (default: both built-ins, the rover pair first)");
+                    "scenario file, or a built-in: rover, descent, panorama (default: all three built-ins, the rover "
+                    "pair first)");
     cmd->add_option("--out", o.out_dir, "output folder (default vtm-run)");
     cmd->add_option("--size", o.size_px, "override the camera's width and height, px (64..2048; quick runs)");
     cmd->add_flag("--link", o.link,
@@ -454,11 +462,13 @@ int runMission(const RunOptions& o) {
     if (ec) return fail(o.out_dir + ": cannot create: " + ec.message());
     std::vector<std::string> names;
     if (o.scenario.empty()) {
-        names = {"rover", "descent"};
+        names = {"rover", "descent", "panorama"};
     } else {
         names = {o.scenario};
     }
     std::string sections;
+    bool links_used = false;
+    bool drivers_used = false;
     std::string labels;
     int requests = 0;
     int failures = 0;
@@ -467,11 +477,32 @@ int runMission(const RunOptions& o) {
         std::string label;
         std::string e = scenarioText(name, text, label);
         auto world = std::make_unique<World>();
+        if (e.empty() && name == "panorama" && o.size_px <= 0) {
+            setValue(text, "width_px", std::to_string(kPanoramaSidePx));  // the built-in's size (panorama.scn: 1024)
+            setValue(text, "height_px", std::to_string(kPanoramaSidePx));
+        }
         if (e.empty()) e = buildWorld(o, text, label, *world);
         if (!e.empty()) return fail(e);
         std::fprintf(stderr, "vtm run: world built in %.1f s, %d frames\n", world->terrain_seconds, world->frames->count);
         labels += (labels.empty() ? "" : " + ") + label;
         std::string section;
+        if (world->scenario.kind == sim::ScenarioKind::kPanorama) {
+            // Stations and their pointing priors are handed to the executive (docs/app.md
+            // "PanoramaMapper"): no camera or odometry driver, in process also with --link.
+            bool mapped = false;
+            e = flyPanorama(*world, o.out_dir, section, mapped);
+            if (!e.empty()) return fail(label + ": " + e);
+            if (o.link) {
+                section += "The panorama is flown in process also with --link: its executive takes the stations' "
+                           "images and pointing priors, not frames from hal::Camera.\n\n";
+            }
+            requests += 1;
+            failures += mapped ? 0 : 1;
+            sections += section;
+            continue;
+        }
+        links_used = links_used || o.link;
+        drivers_used = true;
         const bool rover = world->scenario.kind == sim::ScenarioKind::kRoverPair;
         RunDrivers drivers;
         if (o.link) {
@@ -511,9 +542,12 @@ int runMission(const RunOptions& o) {
                        "`, flight policy `" + kFlightFlags + "`), run under qemu-user on the host. "
                  : std::string())
        << "Simulated worlds and frames (sim/); "
-       << (o.link ? "frames and poses from a separate `vtm-sim serve` process over the HIL link (hal/link), "
-                  : "frames and poses in process from SimCamera and SimOdometry (hal/sim), ")
-       << "the odometry with its navigation errors; the flight executives (fsw/app). Every figure below was measured "
+       << (!drivers_used ? ""
+           : links_used  ? "frames and poses from a separate `vtm-sim serve` process over the HIL link (hal/link), "
+                           "the odometry with its navigation errors; "
+                         : "frames and poses in process from SimCamera and SimOdometry (hal/sim), the odometry with "
+                           "its navigation errors; ")
+       << "the flight executives (fsw/app). Every figure below was measured "
           "in this run against the simulator's truth. " << (requests - failures) << " of " << requests << " requests mapped; total "
        << secondsSince(t0) << " s.\n\n"
        << sections;

@@ -22,6 +22,11 @@ const char* stageName(Stage stage) noexcept {
         case Stage::kInsert: return "insert";
         case Stage::kExtract: return "extract";
         case Stage::kLocate: return "locate";
+        case Stage::kTiePoints: return "tiepoints";
+        case Stage::kBundle: return "bundle";
+        case Stage::kDense: return "dense";
+        case Stage::kKrige: return "krige";
+        case Stage::kOrthophoto: return "orthophoto";
         case Stage::kNone: break;
     }
     return "none";

@@ -1,6 +1,6 @@
 // Per-stage records of one mapping request (issue 7): which stage ran, its Status, one
-// quality figure and its time. The executives (DescentMapper, WideBaselineMapper) fill a
-// StageLog per request and mirror every record to hal::EventLog as one event:
+// quality figure and its time. The executives (DescentMapper, WideBaselineMapper,
+// PanoramaMapper) fill a StageLog per request and mirror every record to hal::EventLog as one event:
 //   id   = kEventStageBase + stage
 //   args = {status code, status detail, quality, duration in microseconds}
 // severity kInfo for a stage that succeeded, kError for the one that ended the request.
@@ -38,6 +38,12 @@ enum class Stage : std::uint8_t {
     kExtract = 15,     // quality: bins with data in the finest product
     // DescentMapper, after refine (orbital.enabled)
     kLocate = 16,      // quality: frames of the pair located in the orbital map and used (0: the navigation's answer kept)
+    // PanoramaMapper
+    kTiePoints = 17,   // quality: tie points of the network (all rings)
+    kBundle = 18,      // quality: image RMS after the adjustment, millipixels
+    kDense = 19,       // quality: dense samples (sample cells kept)
+    kKrige = 20,       // quality: elevation nodes estimated
+    kOrthophoto = 21,  // quality: orthophoto nodes with a grey value
 };
 constexpr std::uint16_t kEventStageBase = 0x0A00U;
 
