@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "request_support.hpp"
+#include "vtm/core/config_check.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/terrain/rectified_geometry.hpp"
 
@@ -13,10 +14,6 @@ using detail::carve;
 
 constexpr std::int32_t kMaxNetworkStations =
     bundle::kMaxStationsLimit < tiepoints::kMaxStations ? bundle::kMaxStationsLimit : tiepoints::kMaxStations;
-
-Status invalid(const char* reason, std::int64_t value = 0) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 std::size_t pixelsOf(const PanoramaMapperConfig& c) noexcept {
     return static_cast<std::size_t>(c.image_width) * static_cast<std::size_t>(c.image_height);
@@ -99,27 +96,27 @@ Status validateDense(const PanoramaMapperConfig& c) noexcept {
     VTM_RETURN_IF_ERROR(rectifyConfigOf(c).validate());
     VTM_RETURN_IF_ERROR(stereoConfigOf(c).validate());
     VTM_RETURN_IF_ERROR(limitsOf(c).validate());
-    if (!detail::inRange(c.sample_cell_m, 1e-6, 100.0)) {
-        return invalid("sample_cell_m: must be in (0, 100]");
+    if (!isInRange(c.sample_cell_m, 1e-6, 100.0)) {
+        return invalidConfig("sample_cell_m: must be in (0, 100]");
     }
-    if (!detail::inRange(c.max_point_sigma_m, 1e-6, 100.0)) {
-        return invalid("max_point_sigma_m: must be in (0, 100]");
+    if (!isInRange(c.max_point_sigma_m, 1e-6, 100.0)) {
+        return invalidConfig("max_point_sigma_m: must be in (0, 100]");
     }
-    if (!detail::inRange(c.dense_gate_m, 0.0, 100.0)) {
-        return invalid("dense_gate_m: must be 0 (off) or in (0, 100]");
+    if (!isInRange(c.dense_gate_m, 0.0, 100.0)) {
+        return invalidConfig("dense_gate_m: must be 0 (off) or in (0, 100]");
     }
-    if (!detail::inRange(c.dense_range_max_m, 1e-6, c.range_max_m)) {
-        return invalid("dense_range_max_m: must be in (0, range_max_m]");
+    if (!isInRange(c.dense_range_max_m, 1e-6, c.range_max_m)) {
+        return invalidConfig("dense_range_max_m: must be in (0, range_max_m]");
     }
     if (c.min_cell_points < 1 || c.min_cell_points > 1000000) {
-        return invalid("min_cell_points: must be 1..1000000", c.min_cell_points);
+        return invalidConfig("min_cell_points: must be 1..1000000", c.min_cell_points);
     }
-    if (!detail::inRange(c.max_cell_spread_m, 1e-6, 100.0)) {
-        return invalid("max_cell_spread_m: must be in (0, 100]");
+    if (!isInRange(c.max_cell_spread_m, 1e-6, 100.0)) {
+        return invalidConfig("max_cell_spread_m: must be in (0, 100]");
     }
     const terrain::HeightMapConfig m = sampleGridOf(c);
     if (m.grid.cols > terrain::kMaxGridSide || m.grid.rows > terrain::kMaxGridSide) {
-        return invalid("sample_cell_m: the elevation grid's extent needs more than 4096 sample cells a side");
+        return invalidConfig("sample_cell_m: the elevation grid's extent needs more than 4096 sample cells a side");
     }
     return m.validate();
 }
@@ -128,21 +125,21 @@ Status validateDense(const PanoramaMapperConfig& c) noexcept {
 
 Status PanoramaMapperConfig::validate() const noexcept {
     if (max_stations < 2 || max_stations > kMaxNetworkStations) {
-        return invalid("max_stations: must be 2..64", max_stations);
+        return invalidConfig("max_stations: must be 2..64", max_stations);
     }
     if (image_width < 16 || image_width > rectify::kMaxImageSide || image_height < 16 ||
         image_height > rectify::kMaxImageSide) {
-        return invalid("image_width/image_height: must be 16..4094", image_width);
+        return invalidConfig("image_width/image_height: must be 16..4094", image_width);
     }
     if (max_observations < 16 || max_observations > bundle::kMaxObservationsLimit) {
-        return invalid("max_observations: must be 16..1048576", max_observations);
+        return invalidConfig("max_observations: must be 16..1048576", max_observations);
     }
     if (ring_stations != 0 && (ring_stations < 3 || ring_stations > max_stations)) {
-        return invalid("ring_stations: must be 0 (one ring) or 3..max_stations", ring_stations);
+        return invalidConfig("ring_stations: must be 0 (one ring) or 3..max_stations", ring_stations);
     }
     if (!math::isFinite(range_min_m) || !math::isFinite(range_max_m) || !(range_min_m > 0.0) ||
         !(range_max_m > range_min_m)) {
-        return invalid("range_min_m/range_max_m: need 0 < range_min_m < range_max_m, finite");
+        return invalidConfig("range_min_m/range_max_m: need 0 < range_min_m < range_max_m, finite");
     }
     VTM_RETURN_IF_ERROR(tiePointsConfigOf(*this).validate());
     VTM_RETURN_IF_ERROR(bundleConfigOf(*this).validate());
@@ -152,7 +149,7 @@ Status PanoramaMapperConfig::validate() const noexcept {
     }
     const kriging::KrigingConfig k = krigingConfigOf(*this);
     if (k.max_samples > kriging::kMaxSamplesLimit) {
-        return invalid("kriging: the sample grid's cells plus max_observations / 2 exceed 1048576 samples");
+        return invalidConfig("kriging: the sample grid's cells plus max_observations / 2 exceed 1048576 samples");
     }
     VTM_RETURN_IF_ERROR(k.validate());
     return orthophoto.validate();
