@@ -62,6 +62,9 @@ std::string checkInput(const std::vector<PdsImage>& frames, const std::vector<Pd
     if (!(config.prior_sigma_deg > 0.0) || !std::isfinite(config.prior_sigma_deg)) {
         return "pointing adjustment: prior_sigma_deg must be > 0, got " + std::to_string(config.prior_sigma_deg);
     }
+    if (!(config.centre_sigma_m >= 0.0) || !std::isfinite(config.centre_sigma_m)) {
+        return "pointing adjustment: centre_sigma_m must be >= 0, got " + std::to_string(config.centre_sigma_m);
+    }
     return std::string();
 }
 
