@@ -2,17 +2,17 @@
 // each frame's rotation is corrected about its own projection centre so that the tie points
 // of neighbouring frames (pds_panorama.hpp) close (docs/pds.md "Pointing adjustment").
 // Ground side: it hands the frames and ties to the flight bundle adjustment (fsw/bundle) as
-// mono stations with their positions held.
+// mono stations (the right eye never observed), unchanged.
 //
 // Model: frame k becomes a network station whose camera model is its CAHVOR model moved so
 // that C = 0 (the frame's projection centre is the station's origin) with site_from_a =
 // (R_site_rover, t_site_rover + R_site_rover C). Its prior (vtm/core/image_network.hpp) is
-// sigma_rotation per site axis on dtheta and zero variance on dt: the centre is held, only
-// the attitude moves, R_adjusted = rotationExp(dtheta) R_label (rotation about the projection
-// centre, dtheta about the site axes). Every tie is a tie point of its own, seen in A at
-// pixel_a and in B at pixel_b; its 3D position is solved with the rotations (the projection
-// centres of the Navcam frames are 7-9 cm apart, so near ties have parallax: a rotation-only
-// model with directions would not close them), points eliminated by the Schur complement.
+// prior_sigma_deg per site axis on dtheta and centre_sigma_m per axis on dt (0 holds the
+// centre): R_adjusted = rotationExp(dtheta) R_label turns the frame about its projection
+// centre, dtheta about the site axes. Every tie is a tie point of its own, seen in A at
+// pixel_a and in B at pixel_b; its 3D position is solved with the pointing (the projection
+// centres of the Navcam frames are 7-9 cm apart and the ties 1-13 m away, so a model with
+// one centre and directions would not close them), points eliminated by the Schur complement.
 // The priors fix the gauge of every connected part of the network (MER frames 2 and 3 share
 // no ties); they are weak against the ties.
 #pragma once
