@@ -11,7 +11,7 @@
 // centre): R_adjusted = rotationExp(dtheta) R_label turns the frame about its projection
 // centre, dtheta about the site axes. Every tie is a tie point of its own, seen in A at
 // pixel_a and in B at pixel_b; its 3D position is solved with the pointing (the projection
-// centres of the Navcam frames are 7-9 cm apart and the ties 1-13 m away, so a model with
+// centres of the Navcam frames are 7-9 cm apart and most ties 1-9 m away, so a model with
 // one centre and directions would not close them), points eliminated by the Schur complement.
 // The priors fix the gauge of every connected part of the network (MER frames 2 and 3 share
 // no ties); they are weak against the ties.
