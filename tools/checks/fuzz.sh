@@ -7,6 +7,7 @@
 #   fuzz_pose_files     tools/ground's vtm-camera-poses / vtm-poses readers and pose specs
 #   fuzz_ply_reader     tools/ground's PLY point reader (ascii, binary little endian)
 #   fuzz_pds_reader     tools/ground's PDS3 image reader (seeds: the MER labels, tests/fuzz/seeds/pds)
+#   fuzz_panorama_stations  tools/ground's panorama stations file (vtm panorama)
 # Configures build/fuzz from tests/fuzz/CMakeLists.txt, writes a seed corpus per target
 # (valid inputs; Python's zlib.crc32 computes the link CRCs independently of our code),
 # runs each target for FUZZ_SECONDS (default 30; FUZZ_JOBS of them at once, default the
@@ -30,10 +31,10 @@ work=$build/runs
 
 cmake -S "$root/tests/fuzz" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ >/dev/null
 cmake --build "$build" --target fuzz_link_decoder fuzz_file_readers fuzz_camera_model fuzz_scenario \
-    fuzz_pose_files fuzz_ply_reader fuzz_pds_reader >/dev/null
+    fuzz_pose_files fuzz_ply_reader fuzz_pds_reader fuzz_panorama_stations >/dev/null
 
 rm -rf "$work"
-mkdir -p "$work"/{link,file,cmod,scn,poses,ply,pds}/{corpus,artifacts}
+mkdir -p "$work"/{link,file,cmod,scn,poses,ply,pds,pano}/{corpus,artifacts}
 cp "$root"/sim/scenarios/*.scn "$work/scn/corpus/"
 cp "$root"/tests/fuzz/seeds/pds/* "$work/pds/corpus/"
 python3 - "$work" <<'PY'
@@ -108,6 +109,13 @@ write(f"{work}/ply/corpus/binary", b"ply\nformat binary_little_endian 1.0\neleme
       b"property double y\nproperty double z\nproperty short s\nelement face 1\n"
       b"property list uchar uint vertex_indices\nend_header\n" +
       struct.pack("<3dh", 1.5, -2.0, 0.25, 7) + struct.pack("<3dh", 0.0, 3.0, -1.0, 8) + struct.pack("<B2I", 2, 0, 1))
+# Panorama stations: a two-station file with a full prior and a sigma line.
+write(f"{work}/pano/corpus/two", b"vtm-panorama-stations 1\n# seed\nleft_camera l.cmod\nright_camera r.cmod\n"
+      b"right_from_left -0.42 0 0 1 0 0 0\nbit_depth 12\nstations 2 tiers 1 columns 2\n"
+      b"station 0 tier 0 column 0 pan_deg 0 tilt_deg -15\nimages a.png b.png\ntrue 1 2 -1.5 1 0 0 0\n"
+      b"approx 1 2 -1.5 0.5 0.5 0.5 0.5\nprior 1e-4 1e-6 0 0 0 0 1e-6 1e-4 0 0 0 0 0 0 1e-4 0 0 0 "
+      b"0 0 0 1e-4 0 0 0 0 0 0 1e-4 0 0 0 0 0 0 1e-4\n"
+      b"station 1\nimages c.png d.png\napprox 1 2 -1.5 1 0 0 0\nsigma 0.01 0.01 0.02 0 0 0.005\n")
 PY
 
 # Each target runs on a core of its own: up to FUZZ_JOBS (default: the number of cores)
@@ -138,7 +146,7 @@ run() {  # name dir: runs one target, writes its report line(s) to dir/report.tx
   echo "$failed" > "$dir/status"
 }
 targets=(fuzz_link_decoder:link fuzz_file_readers:file fuzz_camera_model:cmod fuzz_scenario:scn
-         fuzz_pose_files:poses fuzz_ply_reader:ply fuzz_pds_reader:pds)
+         fuzz_pose_files:poses fuzz_ply_reader:ply fuzz_pds_reader:pds fuzz_panorama_stations:pano)
 if [[ -n ${FUZZ_TARGETS:-} ]]; then  # e.g. FUZZ_TARGETS="fuzz_file_readers fuzz_pose_files"
   chosen=()
   for t in "${targets[@]}"; do

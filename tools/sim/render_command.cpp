@@ -23,6 +23,7 @@
 #include "vtm/ground/sim_world.hpp"
 #include "vtm/ground/camera_model_io.hpp"
 #include "vtm/ground/image_io.hpp"
+#include "vtm/ground/panorama_stations.hpp"
 #include "vtm/ground/pfm.hpp"
 #include "vtm/ground/sim_output.hpp"
 
@@ -347,37 +348,42 @@ bool writeCameraFiles(const World& w, const std::vector<bool>& selected, const s
     return writeText(outdir + "/camera_poses.txt", ground::formatCameraPoses(poses), error);
 }
 
-std::string poseFields(const RigidPose& pose) {
-    const Quat q(pose.R);
-    return number(pose.t_m.x()) + " " + number(pose.t_m.y()) + " " + number(pose.t_m.z()) + " " + number(q.w()) + " " +
-           number(q.x()) + " " + number(q.y()) + " " + number(q.z());
-}
-
-// panorama_stations.txt (docs/sim-scenarios.md "Panorama"): per station its place in the
-// panorama, the true and the approximate (telemetry) left-eye pose and the prior covariance.
-std::string panoramaStationsText(const World& w, const sim::Panorama& p) {
-    std::string t = "vtm-panorama-stations 1\n# " + std::string(w.scenario.name) +
-                    " (vtm-sim render). Left eye = station pose (T_site_from_left: x y z [m, site north east down] "
-                    "qw qx qy qz);\n# right eye = left + R (baseline_m, 0, 0). prior: 6x6 row-major covariance of "
-                    "(dtheta [rad], dt [m]),\n# R_true = rotationExp(dtheta) R_approx, t_true = t_approx + dt. "
-                    "Images: stereo_left_<k>, stereo_right_<k>.\n";
-    t += "baseline_m " + number(w.scenario.motion.stereo_baseline_m) + "\n";
-    t += "stations " + std::to_string(p.count) + " tiers " + std::to_string(p.tiers) + " columns " +
-         std::to_string(p.columns) + "\n";
+// panorama_stations.txt (docs/panorama-cli.md, docs/sim-scenarios.md "Panorama"): the file
+// `vtm panorama` reads, with the rig's camera files, every station's image files (frames
+// 2k and 2k + 1 are station k's eyes), approximate (telemetry) and true left-eye pose and
+// prior covariance.
+std::string panoramaStationsText(const World& w, const sim::Panorama& p, const std::string& format) {
+    ground::PanoramaStationsFile file;
+    file.left_camera = cameraName(w.scenario, sim::FrameRole::kStereoLeft) + ".cmod";
+    file.right_camera = cameraName(w.scenario, sim::FrameRole::kStereoRight) + ".cmod";
+    file.right_from_left = p.stations[0].approx.rig.b_from_a;
+    file.bit_depth = w.scenario.sensor.bit_depth;
+    file.tiers = p.tiers;
+    file.columns = p.columns;
     for (int k = 0; k < p.count; ++k) {
         const sim::PanoramaStation& s = p.stations[k];
-        t += "station " + std::to_string(k) + " tier " + std::to_string(s.tier) + " column " +
-             std::to_string(s.column) + " pan_deg " + number(s.pan_deg) + " tilt_deg " + number(s.tilt_deg) + "\n";
-        t += "true " + poseFields(s.truth.site_from_a) + "\n";
-        t += "approx " + poseFields(s.approx.site_from_a) + "\n";
-        t += "prior";
-        for (int i = 0; i < 36; ++i) t += " " + number(s.approx.prior_covariance(i / 6, i % 6));
-        t += "\n";
+        ground::PanoramaStationRecord r;
+        r.left_image = frameStem(w.scenario, w.frames->frames[2 * k]) + "." + format;
+        r.right_image = frameStem(w.scenario, w.frames->frames[2 * k + 1]) + "." + format;
+        r.approx = s.approx.site_from_a;
+        r.has_truth = true;
+        r.truth = s.truth.site_from_a;
+        r.prior = s.approx.prior_covariance;
+        r.tier = s.tier;
+        r.column = s.column;
+        r.pan_deg = s.pan_deg;
+        r.tilt_deg = s.tilt_deg;
+        file.stations.push_back(r);
     }
-    return t;
+    return ground::formatPanoramaStations(
+        file, {std::string(w.scenario.name) + " (vtm-sim render): the input of `vtm panorama` (docs/panorama-cli.md).",
+               "Poses: T_site_from_left, x y z [m, site north east down] qw qx qy qz; approx = telemetry, true = "
+               "truth;",
+               "prior: 6x6 row-major covariance of (dtheta [rad], dt [m]), R_true = rotationExp(dtheta) R_approx, "
+               "t_true = t_approx + dt."});
 }
 
-bool writePanoramaStations(const World& w, const std::string& outdir, Error& error) {
+bool writePanoramaStations(const World& w, const std::string& outdir, const std::string& format, Error& error) {
     if (w.scenario.kind != sim::ScenarioKind::kPanorama) {
         return true;
     }
@@ -387,7 +393,7 @@ bool writePanoramaStations(const World& w, const std::string& outdir, Error& err
         error = {"vtm-sim: panorama: " + std::string(st.reason())};
         return false;
     }
-    return writeText(outdir + "/panorama_stations.txt", panoramaStationsText(w, *panorama), error);
+    return writeText(outdir + "/panorama_stations.txt", panoramaStationsText(w, *panorama, format), error);
 }
 
 const char* kindName(sim::ScenarioKind kind) {
@@ -497,7 +503,7 @@ int runRender(const RenderOptions& options) {
     }
     const bool ok = writePoseLogs(w, options.outdir, error) &&
                     writeCameraFiles(w, selected, options.outdir, options.format, error) &&
-                    writePanoramaStations(w, options.outdir, error) &&
+                    writePanoramaStations(w, options.outdir, options.format, error) &&
                     writeText(options.outdir + "/scenario.scn", w.text, error) &&
                     writeText(options.outdir + "/README.md", readme(w, reports, options.format), error);
     return ok ? tools::kExitOk : fail(error);

@@ -8,6 +8,7 @@
 //   vtm descent    elevation map from two descent images (descent_command.hpp)
 //   vtm register   similarity between two images of different sensors (register_command.hpp)
 //   vtm integrate  terrain models registered and fused into height maps (integrate_command.hpp; host only)
+//   vtm panorama   a mast panorama from files: kriged elevation, orthophoto (panorama_command.hpp; host only)
 //   vtm eval       accuracy of a disparity map against ground truth (eval_command.hpp)
 //   vtm run        fly a simulated mission in process: products and report (run_command.hpp)
 // docs/tools.md describes the commands, the file formats and the exit codes.
@@ -27,6 +28,9 @@
 #include "register_command.hpp"
 #if VTM_WITH_INTEGRATE
 #include "integrate_command.hpp"
+#endif
+#if VTM_WITH_PANORAMA
+#include "panorama_command.hpp"
 #endif
 #include "run_command.hpp"
 
@@ -110,6 +114,10 @@ int main(int argc, char** argv) {
     vtm::tools::IntegrateOptions integrate_options;
     CLI::App* integrate = vtm::tools::addIntegrateCommand(app, integrate_options);
 #endif
+#if VTM_WITH_PANORAMA
+    vtm::tools::PanoramaOptions panorama_options;
+    CLI::App* panorama = vtm::tools::addPanoramaCommand(app, panorama_options);
+#endif
     vtm::tools::EvalOptions eval_options;
     CLI::App* eval = vtm::tools::addEvalCommand(app, eval_options);
     vtm::tools::RunOptions run_options;
@@ -150,6 +158,11 @@ int main(int argc, char** argv) {
 #if VTM_WITH_INTEGRATE
     if (integrate->parsed()) {
         return vtm::tools::runIntegrate(integrate_options);
+    }
+#endif
+#if VTM_WITH_PANORAMA
+    if (panorama->parsed()) {
+        return vtm::tools::runPanorama(panorama_options);
     }
 #endif
     if (descent->parsed()) {

@@ -1,4 +1,5 @@
 #include "run_panorama.hpp"
+#include "panorama_setup.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -13,53 +14,21 @@
 #include "sim/panorama.hpp"
 #include "sim/render.hpp"
 #include "vtm/app/panorama_mapper.hpp"
-#include "vtm/ground/image_io.hpp"
-#include "vtm/ground/pfm.hpp"
-#include "vtm/ground/terrain_products.hpp"
 
 namespace vtm::tools {
 namespace {
-
-using ground::FloatImage;
-using ground::GreyImage;
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The executive's configuration for the scenario's panorama: the flight defaults
-// (docs/app.md) from 512 px up; smaller eyes get the small detector grid, one matcher level
-// and small stereo windows (as tests/app/panorama_mapper_test.cpp). The elevation grid: a
-// 20 m square at 0.25 m centred on the mast.
+// The executive's configuration for the scenario's panorama (panorama_setup.hpp); the
+// elevation grid: a 20 m square at 0.25 m centred on the mast.
 app::PanoramaMapperConfig configFor(const sim::Panorama& pano, std::int32_t side) {
-    app::PanoramaMapperConfig c;
-    c.max_stations = pano.count;
-    c.image_width = side;
-    c.image_height = side;
-    c.max_observations = 16384;
-    c.ring_stations = pano.columns;
-    c.range_min_m = 1.0;
-    c.range_max_m = 80.0;
-    if (side < 512) {
-        c.tiepoints.detector.grid_cols = c.tiepoints.detector.grid_rows = 8;
-        c.tiepoints.detector.per_cell = 2;
-        c.tiepoints.detector.max_features = 128;
-        c.tiepoints.matcher.pyramid_levels = 1;
-        c.tiepoints.intra_grid.cols = c.tiepoints.intra_grid.rows = 8;
-        c.tiepoints.inter_grid.cols = c.tiepoints.inter_grid.rows = 8;
-        c.tiepoints.parallax.max_radius_px = 50.0;
-        c.tiepoints.map_side = 48;
-        c.stereo.coarse_disparities = 64;
-        c.stereo.coarse_window = 7;
-        c.stereo.fine_radius_px = 4;
-        c.stereo.matcher.window = 9;
-    }
-    const Vec3 mast = pano.rover.position_site_m;
-    c.kriging.grid.cell_m = 0.25;
-    c.kriging.grid.cols = c.kriging.grid.rows = 80;
-    c.kriging.grid.north_edge_m = mast.x() + 10.0;
-    c.kriging.grid.west_edge_m = mast.y() - 10.0;
-    return c;
+    PanoramaGrid grid;
+    grid.centre_north_m = pano.rover.position_site_m.x();
+    grid.centre_east_m = pano.rover.position_site_m.y();
+    return panoramaMapperConfig(pano.count, pano.columns, side, side, grid);
 }
 
 struct Band {
@@ -121,34 +90,6 @@ Measured measure(const ground::SimWorld& w, const sim::Panorama& pano, const app
     return m;
 }
 
-// panorama_elevation.pfm/.png (kriged, shaded), panorama_variance.pfm, panorama_orthophoto.png,
-// panorama_left0.png (the first station's left eye).
-std::string writeProducts(const std::string& dir, const app::PanoramaProducts& p, const StationImages& first) {
-    const kriging::KrigedMap& map = *p.elevation;
-    const terrain::GridConfig& g = map.grid();
-    FloatImage elevation(g.cols, g.rows, 1, std::nanf(""));
-    FloatImage variance(g.cols, g.rows, 1, std::nanf(""));
-    GreyImage ortho(g.cols, g.rows);
-    for (std::int32_t r = 0; r < g.rows; ++r) {
-        for (std::int32_t c = 0; c < g.cols; ++c) {
-            elevation.at(c, r) = map.elevation(c, r);
-            variance.at(c, r) = map.variance(c, r);
-            ortho.at(c, r) = p.orthophoto.row(r)[c];
-        }
-    }
-    GreyImage left(first.left.width(), first.left.height());
-    for (std::int32_t y = 0; y < left.height; ++y) {
-        for (std::int32_t x = 0; x < left.width; ++x) left.at(x, y) = first.left.row(y)[x];
-    }
-    const std::string base = dir + "/panorama_";
-    ground::Outcome o = ground::writePfm(base + "elevation.pfm", elevation);
-    if (o.ok) o = ground::writePng(base + "elevation.png", ground::shadedRelief(elevation, g.cell_m));
-    if (o.ok) o = ground::writePfm(base + "variance.pfm", variance);
-    if (o.ok) o = ground::writePng(base + "orthophoto.png", ortho);
-    if (o.ok) o = ground::writePng(base + "left0.png", left);
-    return o.ok ? "" : o.error;
-}
-
 std::string sectionOf(const app::PanoramaMapperConfig& c, const sim::Panorama& pano, std::int32_t side,
                       const app::PanoramaMapper& mapper, const Measured* m, double render_s, double map_s,
                       const std::string& failure) {
@@ -185,16 +126,8 @@ std::string sectionOf(const app::PanoramaMapperConfig& c, const sim::Panorama& p
                       band.nodes > 0 ? 100.0 * static_cast<double>(good) / band.nodes : 0.0);
         md << b;
     }
-    md << "\n### Time per stage (ms, hal::MonotonicClock on this host)\n\n|";
-    for (std::size_t i = 0; i < mapper.stages().size(); ++i) md << " " << app::stageName(mapper.stages().at(i).stage) << " |";
-    md << "\n|";
-    for (std::size_t i = 0; i < mapper.stages().size(); ++i) md << "---|";
-    md << "\n|";
-    for (std::size_t i = 0; i < mapper.stages().size(); ++i) {
-        std::snprintf(b, sizeof b, " %.1f |", 1e-6 * static_cast<double>(mapper.stages().at(i).duration_ns));
-        md << b;
-    }
-    md << "\n\n### Products\n\n"
+    md << "\n### Time per stage (ms, hal::MonotonicClock on this host)\n\n" << panoramaStageTable(mapper);
+    md << "\n### Products\n\n"
        << "The first station's left eye, the kriged elevation (shaded, high red ... low purple, north up, black: no "
           "estimate) and the orthophoto (north up):\n\n"
        << "![left eye](panorama_left0.png) ![elevation](panorama_elevation.png) ![orthophoto](panorama_orthophoto.png)\n\n"
@@ -258,7 +191,7 @@ std::string flyPanorama(const ground::SimWorld& world, const std::string& out_di
     }
     mapped = true;
     const Measured m = measure(world, *pano, *p);
-    const std::string w = writeProducts(out_dir, *p, images[0]);
+    const std::string w = writePanoramaRasters(out_dir, "panorama_", *p, images[0]);
     if (!w.empty()) return w;
     std::fprintf(stderr, "vtm run: panorama mapped in %.1f s: %u tie points, image RMS %.3f -> %.3f px\n", map_s,
                  p->points, p->bundle.rms_before_px, p->bundle.rms_after_px);
