@@ -2,15 +2,10 @@
 #include <cmath>
 
 #include "bundle_internal.hpp"
+#include "vtm/core/config_check.hpp"
 
 namespace vtm::bundle {
 namespace {
-
-Status invalid(const char* reason, std::int64_t value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
-
-bool positive(double v) noexcept { return std::isfinite(v) && v > 0.0; }
 
 // `count` objects of T constructed in the arena (Arena::construct), as a span; empty when
 // the pool cannot hold them.
@@ -20,66 +15,62 @@ Span<T> construct(Arena& arena, std::size_t count) noexcept {
     return objects != nullptr ? Span<T>(objects, count) : Span<T>();
 }
 
-std::int64_t milli(double v) noexcept {
-    return std::isfinite(v) && std::fabs(v) < 1e15 ? static_cast<std::int64_t>(v * 1000.0) : -1;
-}
-
 Status validateCapacities(const BundleConfig& c) noexcept {
     if (c.max_stations < 2 || c.max_stations > kMaxStationsLimit) {
-        return invalid("bundle.max_stations: must be 2..64", c.max_stations);
+        return invalidConfig("bundle.max_stations: must be 2..64", c.max_stations);
     }
     if (c.max_points < 1 || c.max_points > kMaxPointsLimit) {
-        return invalid("bundle.max_points: must be 1..65536", c.max_points);
+        return invalidConfig("bundle.max_points: must be 1..65536", c.max_points);
     }
     if (c.max_observations < 2 || c.max_observations > kMaxObservationsLimit) {
-        return invalid("bundle.max_observations: must be 2..1048576", c.max_observations);
+        return invalidConfig("bundle.max_observations: must be 2..1048576", c.max_observations);
     }
     if (c.datum_station < -1 || c.datum_station >= c.max_stations) {
-        return invalid("bundle.datum_station: must be -1 or 0..max_stations - 1", c.datum_station);
+        return invalidConfig("bundle.datum_station: must be -1 or 0..max_stations - 1", c.datum_station);
     }
     if (!c.use_pointing_prior && c.datum_station < 0) {
-        return invalid("bundle.datum_station: needed (>= 0) when use_pointing_prior is false", c.datum_station);
+        return invalidConfig("bundle.datum_station: needed (>= 0) when use_pointing_prior is false", c.datum_station);
     }
     return Status::ok();
 }
 
 Status validateWeights(const BundleConfig& c) noexcept {
-    if (!positive(c.sigma_px)) {
-        return invalid("bundle.sigma_px: must be > 0 (milli-pixels in detail)", milli(c.sigma_px));
+    if (!isPositiveFinite(c.sigma_px)) {
+        return invalidConfig("bundle.sigma_px: must be > 0 (milli-pixels in detail)", milliUnits(c.sigma_px));
     }
     if (c.loss != RobustLoss::kHuber && c.loss != RobustLoss::kCauchy) {
-        return invalid("bundle.loss: must be kHuber or kCauchy", static_cast<std::int64_t>(c.loss));
+        return invalidConfig("bundle.loss: must be kHuber or kCauchy", static_cast<std::int64_t>(c.loss));
     }
-    if (!positive(c.robust_k)) {
-        return invalid("bundle.robust_k: must be > 0 (milli in detail)", milli(c.robust_k));
+    if (!isPositiveFinite(c.robust_k)) {
+        return invalidConfig("bundle.robust_k: must be > 0 (milli in detail)", milliUnits(c.robust_k));
     }
-    if (!positive(c.outlier_sigmas) || c.outlier_sigmas <= c.robust_k) {
-        return invalid("bundle.outlier_sigmas: must be > robust_k (milli in detail)", milli(c.outlier_sigmas));
+    if (!isPositiveFinite(c.outlier_sigmas) || c.outlier_sigmas <= c.robust_k) {
+        return invalidConfig("bundle.outlier_sigmas: must be > robust_k (milli in detail)", milliUnits(c.outlier_sigmas));
     }
     if (c.max_rejection_rounds < 0 || c.max_rejection_rounds > 10) {
-        return invalid("bundle.max_rejection_rounds: must be 0..10", c.max_rejection_rounds);
+        return invalidConfig("bundle.max_rejection_rounds: must be 0..10", c.max_rejection_rounds);
     }
     return Status::ok();
 }
 
 Status validateSolver(const BundleConfig& c) noexcept {
     if (c.max_iterations < 1 || c.max_iterations > 500) {
-        return invalid("bundle.max_iterations: must be 1..500", c.max_iterations);
+        return invalidConfig("bundle.max_iterations: must be 1..500", c.max_iterations);
     }
     if (c.max_attempts < 1 || c.max_attempts > 40) {
-        return invalid("bundle.max_attempts: must be 1..40", c.max_attempts);
+        return invalidConfig("bundle.max_attempts: must be 1..40", c.max_attempts);
     }
-    if (!positive(c.initial_lambda) || c.initial_lambda > 1e6) {
-        return invalid("bundle.initial_lambda: must be in (0, 1e6] (milli in detail)", milli(c.initial_lambda));
+    if (!isPositiveFinite(c.initial_lambda) || c.initial_lambda > 1e6) {
+        return invalidConfig("bundle.initial_lambda: must be in (0, 1e6] (milli in detail)", milliUnits(c.initial_lambda));
     }
-    if (!positive(c.converge_rotation_rad)) {
-        return invalid("bundle.converge_rotation_rad: must be > 0", milli(c.converge_rotation_rad));
+    if (!isPositiveFinite(c.converge_rotation_rad)) {
+        return invalidConfig("bundle.converge_rotation_rad: must be > 0", milliUnits(c.converge_rotation_rad));
     }
-    if (!positive(c.converge_translation_m)) {
-        return invalid("bundle.converge_translation_m: must be > 0", milli(c.converge_translation_m));
+    if (!isPositiveFinite(c.converge_translation_m)) {
+        return invalidConfig("bundle.converge_translation_m: must be > 0", milliUnits(c.converge_translation_m));
     }
-    if (!positive(c.min_parallax_rad) || c.min_parallax_rad >= 1.0) {
-        return invalid("bundle.min_parallax_rad: must be in (0, 1) (milli in detail)", milli(c.min_parallax_rad));
+    if (!isPositiveFinite(c.min_parallax_rad) || c.min_parallax_rad >= 1.0) {
+        return invalidConfig("bundle.min_parallax_rad: must be in (0, 1) (milli in detail)", milliUnits(c.min_parallax_rad));
     }
     return Status::ok();
 }

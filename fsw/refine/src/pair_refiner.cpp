@@ -1,4 +1,5 @@
 #include "vtm/refine/pair_refiner.hpp"
+#include "vtm/core/config_check.hpp"
 
 #include <cmath>
 
@@ -15,14 +16,9 @@ constexpr double kRotationTolerance = 1e-6;
 constexpr double kDegPerRad = 180.0 / math::kPi;
 constexpr std::size_t kMatches = static_cast<std::size_t>(features::kMaxFeatures);
 
-Status invalid(const char* reason, std::int64_t value = 0) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 Status badRequest(const char* reason, std::int64_t value = 0) noexcept {
     return Status(StatusCode::kInvalidArgument, reason, value);
 }
-
-bool inRange(double v, double lo, double hi) noexcept { return math::isFinite(v) && v >= lo && v <= hi; }
 
 std::size_t pixelsOf(const Config& c) noexcept {
     return static_cast<std::size_t>(c.max_width) * static_cast<std::size_t>(c.max_height);
@@ -54,19 +50,19 @@ features::MatcherConfig Config::matcherConfig() const noexcept {
 
 Status Config::validate() const noexcept {
     if (max_width < 1 || max_width > kMaxSide || max_height < 1 || max_height > kMaxSide) {
-        return invalid("refine.max_width/max_height: must be 1..4096", max_width);
+        return invalidConfig("refine.max_width/max_height: must be 1..4096", max_width);
     }
     VTM_RETURN_IF_ERROR(detectorConfig().validate());
     VTM_RETURN_IF_ERROR(matcherConfig().validate());
     VTM_RETURN_IF_ERROR(motion.validate());
-    if (!inRange(match_margin_px, 0.0, 1000.0)) {
-        return invalid("refine.match_margin_px: must be 0..1000");
+    if (!isInRange(match_margin_px, 0.0, 1000.0)) {
+        return invalidConfig("refine.match_margin_px: must be 0..1000");
     }
-    if (!inRange(visibility_margin_px, 0.0, 1000.0)) {
-        return invalid("refine.visibility_margin_px: must be 0..1000");
+    if (!isInRange(visibility_margin_px, 0.0, 1000.0)) {
+        return invalidConfig("refine.visibility_margin_px: must be 0..1000");
     }
-    if (!(max_rotation_sigma_deg == 0.0 || inRange(max_rotation_sigma_deg, 0.01, 10.0))) {
-        return invalid("refine.max_rotation_sigma_deg: must be 0 (off) or 0.01..10");
+    if (!(max_rotation_sigma_deg == 0.0 || isInRange(max_rotation_sigma_deg, 0.01, 10.0))) {
+        return invalidConfig("refine.max_rotation_sigma_deg: must be 0 (off) or 0.01..10");
     }
     return Status::ok();
 }
@@ -118,7 +114,7 @@ Status PairRefiner::checkRequest(const Request& request) const noexcept {
     }
     VTM_RETURN_IF_ERROR(validateCameraModel(request.prior.model_a));
     VTM_RETURN_IF_ERROR(validateCameraModel(request.prior.model_b));
-    if (!inRange(request.rotation_sigma_rad, 0.0, math::kPi)) {
+    if (!isInRange(request.rotation_sigma_rad, 0.0, math::kPi)) {
         return badRequest("Request.rotation_sigma_rad: must be 0 (none) .. pi, finite");
     }
     if (!(math::isFinite(request.range_min_m) && request.range_min_m > 0.0 && request.range_min_m < request.range_max_m &&
