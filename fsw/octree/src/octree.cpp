@@ -1,4 +1,5 @@
 #include "vtm/octree/octree.hpp"
+#include "vtm/core/config_check.hpp"
 
 #include <cmath>
 #include <limits>
@@ -8,10 +9,6 @@
 
 namespace vtm::octree {
 namespace {
-
-Status invalidConfig(const char* reason, std::int64_t value) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 // Octant of the child at `level` on the way to finest keys `key`: bit 0 x, bit 1 y, bit 2 z.
 std::uint32_t octantAt(const std::uint32_t key[3], std::int32_t max_depth, std::int32_t level) noexcept {
