@@ -349,7 +349,11 @@ TEST_F(DescentMapperTest, DroppedFrameEndsTheRequestAtCapture2AndPublishesNothin
     EXPECT_EQ(e.id, kEventStageBase + static_cast<std::uint16_t>(Stage::kCapture2));
     EXPECT_EQ(e.severity, hal::Severity::kError);
     EXPECT_EQ(e.args[0], static_cast<std::int64_t>(StatusCode::kNoData));
-    // The next request takes the next two frames and publishes, without the heap.
+#if !defined(VTM_TEST_UNDER_EMULATOR)
+    // The next request takes the next two frames and publishes, without the heap. Host only:
+    // under qemu-ppc it renders and maps a lower pair (about 80 s). Under qemu the refusal
+    // above is checked; a full request's bits on each target are run.target_bits' and the
+    // determinism suite's descent section's.
     Status next;
     std::uint64_t heap = 0U;
     {
@@ -360,6 +364,7 @@ TEST_F(DescentMapperTest, DroppedFrameEndsTheRequestAtCapture2AndPublishesNothin
     EXPECT_TRUE(next.isOk()) << next.reason();
     EXPECT_EQ(heap, 0U);
     EXPECT_NE(mapper_->products(), nullptr);
+#endif
 }
 
 TEST_F(DescentMapperTest, NanPoseEndsTheRequestAtPose1) {
