@@ -162,18 +162,7 @@ Figures measure(const World& w, const PanoramaProducts& p) {
     f.good_near = static_cast<double>(good_near) / n_near;
     f.good_far = static_cast<double>(good_far) / n_far;
     f.ortho_near = static_cast<double>(ortho_near) / n_near;
-    double across = 0.0, within = 0.0;
-    std::int32_t n_across = 0, n_within = 0;
-    for (std::int32_t r = 0; r < g.rows; ++r) {
-        for (std::int32_t c = 0; c + 1 < g.cols; ++c) {
-            const std::uint16_t a = p.source.row(r)[c], b = p.source.row(r)[c + 1];
-            if (a == kriging::kNoSource || b == kriging::kNoSource) continue;
-            const double step = std::fabs(static_cast<double>(p.orthophoto.row(r)[c]) - p.orthophoto.row(r)[c + 1]);
-            (a == b ? within : across) += step;
-            (a == b ? n_within : n_across) += 1;
-        }
-    }
-    f.seam_ratio = (n_across > 0 && n_within > 0) ? (across / n_across) / (within / n_within) : 0.0;
+    f.seam_ratio = kriging::measureSeamSteps(p.orthophoto, p.source).ratio();
     return f;
 }
 

@@ -350,3 +350,30 @@ TEST(Orthophoto, RefusalsAreNamedAndNothingIsWritten) {
 
 }  // namespace
 }  // namespace vtm::kriging
+
+namespace vtm::kriging {
+namespace {
+
+// measureSeamSteps on a 4 x 2 orthophoto worked out by hand: row 0 sources 0 0 1 1 with
+// grey 10 14 30 26 (within: |10-14| = 4 and |30-26| = 4; across: |14-30| = 16); row 1
+// sources 0 NONE 1 1 with grey 50 0 50 53 (within |50-53| = 3; the pairs beside the node
+// without a source are left out).
+TEST(OrthophotoSeams, StepsAcrossBordersAndWithinOneSourceByHand) {
+    std::uint8_t grey[8] = {10, 14, 30, 26, 50, 0, 50, 53};
+    std::uint16_t source[8] = {0, 0, 1, 1, 0, kNoSource, 1, 1};
+    const SeamSteps s = measureSeamSteps(ImageView<const std::uint8_t>(grey, 4, 2),
+                                         ImageView<const std::uint16_t>(source, 4, 2));
+    EXPECT_EQ(s.within_pairs, 3);
+    EXPECT_EQ(s.across_pairs, 1);
+    EXPECT_DOUBLE_EQ(s.within_dn, 11.0 / 3.0);
+    EXPECT_DOUBLE_EQ(s.across_dn, 16.0);
+    EXPECT_DOUBLE_EQ(s.ratio(), 16.0 / (11.0 / 3.0));
+    // Views of different sizes: no pairs, ratio 0.
+    const SeamSteps none = measureSeamSteps(ImageView<const std::uint8_t>(grey, 4, 2),
+                                            ImageView<const std::uint16_t>(source, 2, 4));
+    EXPECT_EQ(none.within_pairs + none.across_pairs, 0);
+    EXPECT_EQ(none.ratio(), 0.0);
+}
+
+}  // namespace
+}  // namespace vtm::kriging

@@ -332,29 +332,15 @@ void products(const World& w, const Chain& c, Figures& f) {
                                          ImageView<std::uint8_t>(grey.data(), kc.grid.cols, kc.grid.rows),
                                          ImageView<std::uint16_t>(source.data(), kc.grid.cols, kc.grid.rows))
                     .isOk());
-    double across = 0.0, within = 0.0;
-    std::int32_t n_across = 0, n_within = 0;
-    for (std::int32_t r = 0; r < kc.grid.rows; ++r) {
-        for (std::int32_t col = 0; col + 1 < kc.grid.cols; ++col) {
-            const std::size_t a = static_cast<std::size_t>(r * kc.grid.cols + col);
-            if (source[a] == kriging::kNoSource || source[a + 1] == kriging::kNoSource) continue;
-            const double step = std::fabs(static_cast<double>(grey[a]) - grey[a + 1]);
-            if (source[a] == source[a + 1]) {
-                within += step;
-                ++n_within;
-            } else {
-                across += step;
-                ++n_across;
-            }
-        }
-    }
-    f.seam_ratio = (n_across > 0 && n_within > 0) ? (across / n_across) / (within / n_within) : 0.0;
+    const kriging::SeamSteps seams =
+        kriging::measureSeamSteps(ImageView<const std::uint8_t>(grey.data(), kc.grid.cols, kc.grid.rows),
+                                  ImageView<const std::uint16_t>(source.data(), kc.grid.cols, kc.grid.rows));
+    f.seam_ratio = seams.ratio();
     std::printf("[ chain ]   kriged map from %zu adjusted tie points (variogram: sill %.4f m2, range %.2f m): elevation "
                 "RMS vs terrain %.4f m at 1-4 m (%.0f %% of nodes), %.4f m at 4-10 m (%zu nodes); orthophoto grey step "
                 "across source borders %.2f DN (%d) vs within one image %.2f DN (%d)\n",
                 samples.size(), v.partial_sill_m2 + v.nugget_m2, v.range_m, f.map_rms_near, 100.0 * f.map_coverage_near,
-                f.map_rms_far, far.size(), n_across > 0 ? across / n_across : 0.0, n_across,
-                n_within > 0 ? within / n_within : 0.0, n_within);
+                f.map_rms_far, far.size(), seams.across_dn, seams.across_pairs, seams.within_dn, seams.within_pairs);
 }
 
 Figures runChain(const std::string& text, const char* label) {

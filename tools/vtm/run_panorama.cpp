@@ -73,20 +73,10 @@ Measured measure(const ground::SimWorld& w, const sim::Panorama& pano, const app
         }
     }
     m.ortho_coverage = nodes > 0 ? static_cast<double>(seen) / nodes : 0.0;
-    double across = 0.0, within = 0.0;
-    std::int32_t n_across = 0, n_within = 0;
-    for (std::int32_t r = 0; r < g.rows; ++r) {
-        for (std::int32_t c = 0; c + 1 < g.cols; ++c) {
-            const std::uint16_t a = p.source.row(r)[c], b = p.source.row(r)[c + 1];
-            if (a == kriging::kNoSource || b == kriging::kNoSource) continue;
-            const double step = std::fabs(static_cast<double>(p.orthophoto.row(r)[c]) - p.orthophoto.row(r)[c + 1]);
-            (a == b ? within : across) += step;
-            (a == b ? n_within : n_across) += 1;
-        }
-    }
-    m.step_across = n_across > 0 ? across / n_across : 0.0;
-    m.step_within = n_within > 0 ? within / n_within : 0.0;
-    m.seam_ratio = m.step_within > 0.0 ? m.step_across / m.step_within : 0.0;
+    const kriging::SeamSteps seams = kriging::measureSeamSteps(p.orthophoto, p.source);
+    m.step_across = seams.across_dn;
+    m.step_within = seams.within_dn;
+    m.seam_ratio = seams.ratio();
     return m;
 }
 

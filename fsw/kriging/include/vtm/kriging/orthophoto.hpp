@@ -55,4 +55,21 @@ struct OrthophotoStats {
                                      const ImageView<std::uint8_t>& grey, const ImageView<std::uint16_t>& source,
                                      OrthophotoStats* stats = nullptr) noexcept;
 
+// The orthophoto's mean absolute grey step between east-west neighbour nodes, split into
+// pairs whose sources differ (a border between two images) and pairs of one source: a seam
+// shows as steps across borders larger than those within one image (ratio() > 1). Nodes
+// without a source are left out; views of different sizes give no pairs.
+struct SeamSteps {
+    double across_dn = 0.0;
+    double within_dn = 0.0;
+    std::int32_t across_pairs = 0;
+    std::int32_t within_pairs = 0;
+    // across / within; 0 when either has no pair or within is 0.
+    [[nodiscard]] double ratio() const noexcept {
+        return (across_pairs > 0 && within_pairs > 0 && within_dn > 0.0) ? across_dn / within_dn : 0.0;
+    }
+};
+[[nodiscard]] SeamSteps measureSeamSteps(const ImageView<const std::uint8_t>& grey,
+                                         const ImageView<const std::uint16_t>& source) noexcept;
+
 }  // namespace vtm::kriging
