@@ -19,6 +19,7 @@
 #include "hal/event_log.hpp"
 #include "hal/clock.hpp"
 #include "no_heap_guard.hpp"
+#include "panorama_world.hpp"
 #include "scenario_text.hpp"
 #include "sim/panorama.hpp"
 #include "sim/render.hpp"
@@ -28,18 +29,7 @@
 namespace vtm::app {
 namespace {
 
-struct World {
-    sim::Scenario scenario;
-    std::vector<std::byte> terrain_pool;
-    std::unique_ptr<Arena> terrain_arena;
-    sim::Terrain terrain;
-    sim::Panorama panorama;
-    std::unique_ptr<sim::ScenarioFrames> frames = std::make_unique<sim::ScenarioFrames>();
-    std::vector<std::vector<std::uint8_t>> pixels;  // frame k: station k / 2, eye k % 2
-    std::vector<NetworkStation> approx;
-    std::vector<StationImages> images;
-    std::int32_t side = 0;
-};
+using World = test::PanoramaWorld;
 
 std::string scenarioText() {
     std::ifstream in(std::string(VTM_SCENARIO_DIR) + "/test_panorama_small.scn", std::ios::binary);
@@ -61,31 +51,8 @@ const World& world() {
     static std::unique_ptr<World> w;
     if (w != nullptr) return *w;
     w = std::make_unique<World>();
-    const std::string text = scenarioText();
-    EXPECT_TRUE(sim::parseScenario(text, w->scenario).isOk());
-    w->terrain_pool.assign(sim::scenarioTerrainBytes(w->scenario), std::byte{0});
-    w->terrain_arena = std::make_unique<Arena>(w->terrain_pool.data(), w->terrain_pool.size());
-    EXPECT_TRUE(sim::buildScenarioTerrain(w->scenario, *w->terrain_arena, w->terrain).isOk());
-    EXPECT_TRUE(sim::buildPanorama(w->scenario, w->terrain, w->panorama).isOk());
-    EXPECT_TRUE(sim::buildScenarioFrames(w->scenario, w->terrain, *w->frames).isOk());
-    const std::int32_t stations = kFirstTierOnly ? w->panorama.columns : w->panorama.count;
-    const std::int32_t n = 2 * stations;  // frame k: station k / 2, eye k % 2
-    w->side = w->frames->frames[0].model.width_px;
-    const auto px = static_cast<std::size_t>(w->side) * static_cast<std::size_t>(w->side);
-    w->pixels.assign(static_cast<std::size_t>(n), std::vector<std::uint8_t>(px, 0U));
-    for (std::int32_t k = 0; k < n; ++k) {
-        const sim::FrameRequest rq = sim::scenarioFrameRequest(w->scenario, w->terrain, w->frames->frames[k]);
-        sim::FrameOutput out;
-        out.image8 = ImageView<std::uint8_t>(w->pixels[static_cast<std::size_t>(k)].data(), w->side, w->side);
-        EXPECT_TRUE(sim::renderFrame(rq, out, nullptr).isOk());
-    }
-    for (std::int32_t s = 0; s < stations; ++s) {
-        w->approx.push_back(w->panorama.stations[s].approx);
-        StationImages im;
-        im.left = ImageView<const std::uint8_t>(w->pixels[static_cast<std::size_t>(2 * s)].data(), w->side, w->side);
-        im.right = ImageView<const std::uint8_t>(w->pixels[static_cast<std::size_t>(2 * s + 1)].data(), w->side, w->side);
-        w->images.push_back(im);
-    }
+    // The first tier: the scenario's 8 columns (a partial ring would be refused by ring_stations).
+    EXPECT_TRUE(test::buildPanoramaWorld(scenarioText(), *w, kFirstTierOnly ? 8 : -1));
     return *w;
 }
 

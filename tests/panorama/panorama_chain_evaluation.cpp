@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "panorama_world.hpp"
 #include "scenario_text.hpp"
 #include "sim/panorama.hpp"
 #include "sim/render.hpp"
@@ -32,17 +33,7 @@ namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-struct World {
-    sim::Scenario scenario;
-    std::vector<std::byte> terrain_pool;
-    std::unique_ptr<Arena> terrain_arena;
-    sim::Terrain terrain;
-    sim::Panorama panorama;
-    std::unique_ptr<sim::ScenarioFrames> frames = std::make_unique<sim::ScenarioFrames>();
-    std::vector<std::vector<std::uint8_t>> pixels;  // frame k: station k / 2, eye k % 2
-    std::vector<std::vector<float>> range;          // left eyes only
-    std::int32_t side = 0;
-};
+using World = test::PanoramaWorld;
 
 std::string scenarioText() {
     std::ifstream in(std::string(VTM_SCENARIO_DIR) + "/panorama.scn", std::ios::binary);
@@ -51,30 +42,7 @@ std::string scenarioText() {
     return text.str();
 }
 
-bool buildWorld(const std::string& text, World& w) {
-    if (!sim::parseScenario(text, w.scenario).isOk()) return false;
-    w.terrain_pool.assign(sim::scenarioTerrainBytes(w.scenario), std::byte{0});
-    w.terrain_arena = std::make_unique<Arena>(w.terrain_pool.data(), w.terrain_pool.size());
-    if (!sim::buildScenarioTerrain(w.scenario, *w.terrain_arena, w.terrain).isOk()) return false;
-    if (!sim::buildPanorama(w.scenario, w.terrain, w.panorama).isOk()) return false;
-    if (!sim::buildScenarioFrames(w.scenario, w.terrain, *w.frames).isOk()) return false;
-    const std::int32_t n = w.frames->count;
-    w.side = w.frames->frames[0].model.width_px;
-    const auto px = static_cast<std::size_t>(w.side) * static_cast<std::size_t>(w.side);
-    w.pixels.assign(static_cast<std::size_t>(n), std::vector<std::uint8_t>(px, 0U));
-    w.range.assign(static_cast<std::size_t>(n), std::vector<float>());
-    for (std::int32_t k = 0; k < n; ++k) {
-        const sim::FrameRequest rq = sim::scenarioFrameRequest(w.scenario, w.terrain, w.frames->frames[k]);
-        sim::FrameOutput out;
-        out.image8 = ImageView<std::uint8_t>(w.pixels[static_cast<std::size_t>(k)].data(), w.side, w.side);
-        if (k % 2 == 0) {
-            w.range[static_cast<std::size_t>(k)].assign(px, 0.0F);
-            out.truth.range_m = ImageView<float>(w.range[static_cast<std::size_t>(k)].data(), w.side, w.side);
-        }
-        if (!sim::renderFrame(rq, out, nullptr).isOk()) return false;
-    }
-    return true;
-}
+bool buildWorld(const std::string& text, World& w) { return test::buildPanoramaWorld(text, w, -1, true); }
 
 // The true ground point of a left-eye pixel from the rendered range (nearest pixel; none on
 // sky or at a depth edge, where the four neighbours differ by more than 2 %).
@@ -124,18 +92,9 @@ void tiePoints(const World& w, Chain& c) {
     auto extractor = std::make_unique<tiepoints::TiePointExtractor>();
     ASSERT_TRUE(extractor->init(tc, arena).isOk());
     for (std::int32_t t = 0; t < tiers; ++t) {
-        std::vector<NetworkStation> ring;
-        std::vector<StationImages> images;
-        for (std::int32_t k = 0; k < columns; ++k) {
-            const std::int32_t s = t * columns + k;
-            ring.push_back(w.panorama.stations[s].approx);
-            StationImages im;
-            im.left = ImageView<const std::uint8_t>(w.pixels[static_cast<std::size_t>(2 * s)].data(), w.side, w.side);
-            im.right = ImageView<const std::uint8_t>(w.pixels[static_cast<std::size_t>(2 * s + 1)].data(), w.side, w.side);
-            images.push_back(im);
-        }
-        const Status st = extractor->run(Span<const NetworkStation>(ring.data(), ring.size()),
-                                         Span<const StationImages>(images.data(), images.size()));
+        const auto first = static_cast<std::size_t>(t * columns);
+        const Status st = extractor->run(Span<const NetworkStation>(w.approx.data() + first, static_cast<std::size_t>(columns)),
+                                         Span<const StationImages>(w.images.data() + first, static_cast<std::size_t>(columns)));
         if (!st.isOk()) {
             std::printf("[ chain ] tier %d: tie points refused: %s\n", t, st.reason());
             ++c.tiepoint_failures;
@@ -316,14 +275,10 @@ void products(const World& w, const Chain& c, Figures& f) {
     f.map_coverage_near = near_nodes > 0 ? static_cast<double>(near.size()) / near_nodes : 0.0;
     // The orthophoto from the adjusted stations.
     std::vector<NetworkStation> adjusted = c.approx;
-    std::vector<StationImages> images;
     for (std::size_t s = 0; s < adjusted.size(); ++s) {
         adjusted[s].site_from_a = c.stations[s].site_from_a;
-        StationImages im;
-        im.left = ImageView<const std::uint8_t>(w.pixels[2 * s].data(), w.side, w.side);
-        im.right = ImageView<const std::uint8_t>(w.pixels[2 * s + 1].data(), w.side, w.side);
-        images.push_back(im);
     }
+    const std::vector<StationImages>& images = w.images;
     std::vector<std::uint8_t> grey(static_cast<std::size_t>(kc.grid.cols * kc.grid.rows), 0U);
     std::vector<std::uint16_t> source(grey.size(), 0U);
     kriging::OrthophotoConfig oc;
