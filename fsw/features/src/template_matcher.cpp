@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "floor_int.hpp"
 #include "vtm/core/image_pyramid.hpp"
 #include "vtm/core/math.hpp"
 
@@ -95,7 +96,7 @@ struct Template {
     TemplateSums sums{};
 };
 
-std::int32_t roundToInt(double v) noexcept { return static_cast<std::int32_t>(std::floor(v + 0.5)); }
+std::int32_t roundToInt(double v) noexcept { return detail::floorToInt(v + 0.5); }
 
 // Pixel centre convention: level-l pixel i averages level-(l-1) pixels 2i, 2i+1.
 double toLevel(double x0, std::int32_t level) noexcept {
@@ -121,8 +122,8 @@ bool templateFits(const ImageView<const std::uint8_t>& img, Pos p, std::int32_t 
 std::uint16_t sampleBilinear(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
     const double xc = std::clamp(x, 0.0, static_cast<double>(img.width() - 1));
     const double yc = std::clamp(y, 0.0, static_cast<double>(img.height() - 1));
-    const std::int32_t x0 = std::min(static_cast<std::int32_t>(std::floor(xc)), img.width() - 2);
-    const std::int32_t y0 = std::min(static_cast<std::int32_t>(std::floor(yc)), img.height() - 2);
+    const std::int32_t x0 = std::min(detail::floorToInt(xc), img.width() - 2);
+    const std::int32_t y0 = std::min(detail::floorToInt(yc), img.height() - 2);
     const std::int32_t wx = roundToInt((xc - static_cast<double>(x0)) * static_cast<double>(kWeightOne));
     const std::int32_t wy = roundToInt((yc - static_cast<double>(y0)) * static_cast<double>(kWeightOne));
     const std::uint8_t* r0 = img.row(y0) + x0;
