@@ -284,6 +284,11 @@ TEST(BundleAdjuster, TwoRunsGiveTheSameBitsAndTouchNoHeap) {
         ASSERT_TRUE(run(f, net, r1).isOk());
         EXPECT_EQ(guard.heapCalls(), 0U);
     }
+#if defined(VTM_TEST_UNDER_EMULATOR)
+    // Under qemu the second run is left out (a sixth of this suite's emulated time): there
+    // the determinism suite's bundle section proves the target's bits equal to the host's.
+    (void)r2;
+#else
     first.assign(f.adjuster.stations().begin(), f.adjuster.stations().end());
     std::vector<PointSolution> firstPoints(f.adjuster.points().begin(), f.adjuster.points().end());
     {
@@ -302,6 +307,7 @@ TEST(BundleAdjuster, TwoRunsGiveTheSameBitsAndTouchNoHeap) {
         EXPECT_EQ(std::memcmp(firstPoints[p].position_m.data(), f.adjuster.points()[p].position_m.data(), 3 * sizeof(double)), 0);
         EXPECT_EQ(std::memcmp(firstPoints[p].covariance.data(), f.adjuster.points()[p].covariance.data(), 9 * sizeof(double)), 0);
     }
+#endif
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "floor_int.hpp"
 #include "no_heap_guard.hpp"
 #include "test_images.hpp"
 #include "vtm/features/features.hpp"
@@ -172,6 +173,21 @@ TEST(AffineRefine, BadInputsGiveTheDocumentedStatus) {
     EXPECT_EQ(refineAffine(pair.a.view(), pair.b.view(), pa, pa, bad, config, am).code(), StatusCode::kInvalidArgument);
     EXPECT_EQ(refineAffine(ImageView<const std::uint8_t>(), pair.b.view(), pa, pa, pair.m, config, am).code(),
               StatusCode::kInvalidArgument);
+}
+
+// The samplers' floor without a library call (floor_int.hpp) equals std::floor: integers,
+// halves, values next to an integer on both sides, negatives, the int32 ends.
+TEST(FloorToInt, EqualsStdFloor) {
+    const double values[] = {0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.999999999999, -2.999999999999, 255.0, 255.5,
+                             -1.0e-300, 1.0e-300, 2147483646.5, -2147483647.5, -2147483648.0};
+    for (const double v : values) {
+        EXPECT_EQ(detail::floorToInt(v), static_cast<std::int32_t>(std::floor(v))) << v;
+        for (const double w : {std::nextafter(v, -1.0e10), std::nextafter(v, 1.0e10)}) {
+            if (w > -2147483648.0 && w < 2147483647.0) {
+                EXPECT_EQ(detail::floorToInt(w), static_cast<std::int32_t>(std::floor(w))) << w;
+            }
+        }
+    }
 }
 
 }  // namespace

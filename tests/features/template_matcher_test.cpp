@@ -3,6 +3,7 @@
 // centre is moved sideways (t = shift * Z / f). Truth: pixel_b = pixel_a + shift.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -100,6 +101,41 @@ TEST(TemplateMatcher, MatchesAShiftedImageWithinAFifthOfAPixel) {
                 out->count, worst, std::sqrt(sum_sq / std::max(1, out->count)));
     EXPECT_GE(out->count, fs->count * 8 / 10);
     EXPECT_LT(worst, 0.2);
+}
+
+// prepare() once and matchPrepared() one feature at a time (what fsw/tiepoints' inter
+// search does) give match()'s bits; matchPrepared() refuses until prepare() has succeeded.
+TEST(TemplateMatcher, PreparedPyramidsGiveMatchsBits) {
+    const auto scene = std::make_unique<Scene>();
+    Modules m(detectorConfig(), matcherConfig());
+    const auto fs = std::make_unique<FeatureSet>();
+    const auto all = std::make_unique<MatchSet>();
+    const auto one = std::make_unique<MatchSet>();
+    const auto single = std::make_unique<FeatureSet>();
+    ASSERT_TRUE(m.detector.detect(scene->a.view(), *fs).isOk());
+    fs->count = std::min(fs->count, 8);  // eight features are enough to compare bits
+    ASSERT_EQ(m.matcher.matchPrepared(*fs, scene->prediction(), *one).code(), StatusCode::kNotInitialized);
+    ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, scene->prediction(), *all).isOk());
+    ASSERT_GE(all->count, 4);
+    EXPECT_EQ(m.matcher.prepare(ImageView<const std::uint8_t>(), scene->b.view()).code(), StatusCode::kInvalidArgument);
+    EXPECT_EQ(m.matcher.matchPrepared(*fs, scene->prediction(), *one).code(), StatusCode::kNotInitialized);
+    ASSERT_TRUE(m.matcher.prepare(scene->a.view(), scene->b.view()).isOk());
+    std::int32_t next = 0;  // index into all->items
+    vtm::test::NoHeapScope scope;
+    for (std::int32_t i = 0; i < fs->count; ++i) {
+        single->items[0] = fs->items[i];
+        single->count = 1;
+        ASSERT_TRUE(m.matcher.matchPrepared(*single, scene->prediction(), *one).isOk());
+        const bool matched = next < all->count && all->items[next].feature_index == i;
+        ASSERT_EQ(one->count, matched ? 1 : 0) << "feature " << i;
+        if (matched) {
+            EXPECT_EQ(std::memcmp(one->items[0].pixel_b.data(), all->items[next].pixel_b.data(), sizeof(Vec2)), 0);
+            EXPECT_EQ(one->items[0].score, all->items[next].score);
+            ++next;
+        }
+    }
+    EXPECT_EQ(scope.heapCalls(), 0U);
+    EXPECT_EQ(next, all->count);
 }
 
 // A region larger than kMaxCoarseCandidates positions (full resolution only, 120 px

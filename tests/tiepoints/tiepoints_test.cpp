@@ -327,9 +327,11 @@ TEST(TiePointsRefusals, NamedStatus) {
     EXPECT_EQ(r.code(), StatusCode::kDegenerate);
     EXPECT_NE(std::string(r.reason()).find("no texture"), std::string::npos);
 
-    // capacity full
+    // capacity full: the strongest 32 points per image (a tenth of the matching work; the
+    // refusal comes after station 0's intra matching) and room for 2 ties' observations
     Config tiny = c;
-    tiny.max_observations = 20;
+    tiny.detector.max_features = 32;
+    tiny.max_observations = 4;
     r = refusalOf(tiny, st, im);
     EXPECT_EQ(r.code(), StatusCode::kOutOfMemory);
     EXPECT_NE(std::string(r.reason()).find("capacity full"), std::string::npos);

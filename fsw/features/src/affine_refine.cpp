@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "floor_int.hpp"
 #include "vtm/core/math.hpp"
 
 namespace vtm::features {
@@ -30,8 +31,8 @@ struct Params {
 // Bilinear sample at (x, y); the caller keeps (x, y) inside [0, w-1] x [0, h-1] and the
 // image at least 2 x 2 (windowInside guarantees both).
 double sample(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
-    const std::int32_t x0 = std::min(static_cast<std::int32_t>(std::floor(x)), img.width() - 2);
-    const std::int32_t y0 = std::min(static_cast<std::int32_t>(std::floor(y)), img.height() - 2);
+    const std::int32_t x0 = std::min(detail::floorToInt(x), img.width() - 2);
+    const std::int32_t y0 = std::min(detail::floorToInt(y), img.height() - 2);
     const double fx = x - static_cast<double>(x0);
     const double fy = y - static_cast<double>(y0);
     const std::uint8_t* r0 = img.row(y0) + x0;

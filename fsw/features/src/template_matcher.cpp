@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "floor_int.hpp"
 #include "vtm/core/image_pyramid.hpp"
 #include "vtm/core/math.hpp"
 
@@ -95,7 +96,7 @@ struct Template {
     TemplateSums sums{};
 };
 
-std::int32_t roundToInt(double v) noexcept { return static_cast<std::int32_t>(std::floor(v + 0.5)); }
+std::int32_t roundToInt(double v) noexcept { return detail::floorToInt(v + 0.5); }
 
 // Pixel centre convention: level-l pixel i averages level-(l-1) pixels 2i, 2i+1.
 double toLevel(double x0, std::int32_t level) noexcept {
@@ -121,8 +122,8 @@ bool templateFits(const ImageView<const std::uint8_t>& img, Pos p, std::int32_t 
 std::uint16_t sampleBilinear(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
     const double xc = std::clamp(x, 0.0, static_cast<double>(img.width() - 1));
     const double yc = std::clamp(y, 0.0, static_cast<double>(img.height() - 1));
-    const std::int32_t x0 = std::min(static_cast<std::int32_t>(std::floor(xc)), img.width() - 2);
-    const std::int32_t y0 = std::min(static_cast<std::int32_t>(std::floor(yc)), img.height() - 2);
+    const std::int32_t x0 = std::min(detail::floorToInt(xc), img.width() - 2);
+    const std::int32_t y0 = std::min(detail::floorToInt(yc), img.height() - 2);
     const std::int32_t wx = roundToInt((xc - static_cast<double>(x0)) * static_cast<double>(kWeightOne));
     const std::int32_t wy = roundToInt((yc - static_cast<double>(y0)) * static_cast<double>(kWeightOne));
     const std::uint8_t* r0 = img.row(y0) + x0;
@@ -760,6 +761,7 @@ std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcep
 
 Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept {
     initialized_ = false;
+    prepared_ = false;
     VTM_RETURN_IF_ERROR(config.validate());
     const std::size_t bytes = pyramidBytes(config);
     storageA_ = arena.allocateArray<std::uint8_t>(bytes == 0U ? 1U : bytes);
@@ -797,23 +799,27 @@ void TemplateMatcher::buildPyramid(const ImageView<const std::uint8_t>& image, S
 }
 
 namespace {
-Status checkInputs(const MatcherConfig& c, const ImageView<const std::uint8_t>& image_a,
-                   const ImageView<const std::uint8_t>& image_b, const FeatureSet& features_a,
-                   const MatchPrediction& p) noexcept {
+Status checkImages(const MatcherConfig& c, const ImageView<const std::uint8_t>& image_a,
+                   const ImageView<const std::uint8_t>& image_b) noexcept {
     if (!image_a.valid()) {
-        return Status(StatusCode::kInvalidArgument, "TemplateMatcher::match: image_a is empty or malformed");
+        return Status(StatusCode::kInvalidArgument, "TemplateMatcher: image_a is empty or malformed");
     }
     if (!image_b.valid()) {
-        return Status(StatusCode::kInvalidArgument, "TemplateMatcher::match: image_b is empty or malformed");
+        return Status(StatusCode::kInvalidArgument, "TemplateMatcher: image_b is empty or malformed");
     }
     if (image_a.width() > c.max_width || image_a.height() > c.max_height) {
-        return Status(StatusCode::kSizeMismatch, "TemplateMatcher::match: image_a exceeds max_width x max_height",
+        return Status(StatusCode::kSizeMismatch, "TemplateMatcher: image_a exceeds max_width x max_height",
                       image_a.width());
     }
     if (image_b.width() > c.max_width || image_b.height() > c.max_height) {
-        return Status(StatusCode::kSizeMismatch, "TemplateMatcher::match: image_b exceeds max_width x max_height",
+        return Status(StatusCode::kSizeMismatch, "TemplateMatcher: image_b exceeds max_width x max_height",
                       image_b.width());
     }
+    return Status::ok();
+}
+// The prediction and the features against the (checked) images.
+Status checkPrediction(const ImageView<const std::uint8_t>& image_a, const ImageView<const std::uint8_t>& image_b,
+                       const FeatureSet& features_a, const MatchPrediction& p) noexcept {
     if (p.pair.model_a.width_px != image_a.width() || p.pair.model_a.height_px != image_a.height()) {
         return Status(StatusCode::kSizeMismatch, "MatchPrediction.pair.model_a: size differs from image_a",
                       p.pair.model_a.width_px);
@@ -876,21 +882,45 @@ Geometry forwardGeometry(const MatchPrediction& prediction) noexcept {
 }
 }  // namespace
 
+Status TemplateMatcher::prepare(const ImageView<const std::uint8_t>& image_a,
+                                const ImageView<const std::uint8_t>& image_b) noexcept {
+    prepared_ = false;
+    if (!initialized_) {
+        return Status(StatusCode::kNotInitialized, "TemplateMatcher: init() has not succeeded");
+    }
+    VTM_RETURN_IF_ERROR(checkImages(config_, image_a, image_b));
+    buildPyramid(image_a, storageA_, pyramidA_);
+    buildPyramid(image_b, storageB_, pyramidB_);
+    prepared_ = true;
+    return Status::ok();
+}
+
 Status TemplateMatcher::match(const ImageView<const std::uint8_t>& image_a,
                               const ImageView<const std::uint8_t>& image_b, const FeatureSet& features_a,
                               const MatchPrediction& prediction, MatchSet& out, MatchStats* stats) noexcept {
+    out.count = 0;
+    if (stats != nullptr) {
+        *stats = MatchStats{};
+    }
+    VTM_RETURN_IF_ERROR(prepare(image_a, image_b));
+    return matchPrepared(features_a, prediction, out, stats);
+}
+
+Status TemplateMatcher::matchPrepared(const FeatureSet& features_a, const MatchPrediction& prediction, MatchSet& out,
+                                      MatchStats* stats) noexcept {
     out.count = 0;
     MatchStats st;
     if (stats != nullptr) {
         *stats = st;
     }
-    if (!initialized_) {
-        return Status(StatusCode::kNotInitialized, "TemplateMatcher::match: init() has not succeeded");
+    if (!initialized_ || !prepared_) {
+        return Status(StatusCode::kNotInitialized, "TemplateMatcher::matchPrepared: prepare() has not succeeded");
     }
-    VTM_RETURN_IF_ERROR(checkInputs(config_, image_a, image_b, features_a, prediction));
-    Pyramid pa, pb;
-    buildPyramid(image_a, storageA_, pa);
-    buildPyramid(image_b, storageB_, pb);
+    const Pyramid& pa = pyramidA_;
+    const Pyramid& pb = pyramidB_;
+    const ImageView<const std::uint8_t>& image_a = pa.level[0];
+    const ImageView<const std::uint8_t>& image_b = pb.level[0];
+    VTM_RETURN_IF_ERROR(checkPrediction(image_a, image_b, features_a, prediction));
     const Geometry forward = forwardGeometry(prediction);
     Geometry backward = inverseOf(forward);
     setAxis(backward);

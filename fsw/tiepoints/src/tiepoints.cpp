@@ -293,7 +293,8 @@ Status TiePointExtractor::interEye(std::int32_t i, std::int32_t j, Eye eye, Span
     return Status::ok();
 }
 
-// Guided NCC search of every Förstner point of i's left image in eye `eye` of j; the
+// Guided NCC search of every Förstner point of i's left image in eye `eye` of j, one point
+// at a time (each has its own range band and margin) against pyramids built once; the
 // matches go to matches_ (feature_index = the point's index in station i).
 Status TiePointExtractor::searchEye(std::int32_t i, std::int32_t j, Eye eye, Span<const NetworkStation> stations,
                                     Span<const StationImages> images, Stats& stats) noexcept {
@@ -313,6 +314,7 @@ Status TiePointExtractor::searchEye(std::int32_t i, std::int32_t j, Eye eye, Spa
     prediction.surface_normal_a = upIn(si.site_from_a);
     const std::size_t base = static_cast<std::size_t>(i) * static_cast<std::size_t>(config_.detector.max_features);
     matches_->count = 0;
+    VTM_RETURN_IF_ERROR(matcher_.prepare(image_a, image_b));  // the pyramids, once per image pair
     for (std::int32_t k = 0; k < featureCount_[static_cast<std::size_t>(i)]; ++k) {
         Vec3 ground = Vec3::Zero();
         Vec2 predicted = Vec2::Zero();
@@ -331,7 +333,7 @@ Status TiePointExtractor::searchEye(std::int32_t i, std::int32_t j, Eye eye, Spa
             config_.sigma_multiplier * kSqrt2 * (config_.pointing_sigma_rad + config_.position_sigma_m / range) * ppr;
         single_->items[0] = features_[base + static_cast<std::size_t>(k)];
         single_->count = 1;
-        VTM_RETURN_IF_ERROR(matcher_.match(image_a, image_b, *single_, prediction, *found_));
+        VTM_RETURN_IF_ERROR(matcher_.matchPrepared(*single_, prediction, *found_));
         if (found_->count == 1) {
             matches_->items[matches_->count] = found_->items[0];
             matches_->items[matches_->count].feature_index = k;

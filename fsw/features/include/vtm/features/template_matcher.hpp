@@ -127,6 +127,19 @@ public:
                                const MatchPrediction& prediction, MatchSet& out,
                                MatchStats* stats = nullptr) noexcept;
 
+    // match() in two steps, for a caller that searches many features of one image pair,
+    // each with a prediction of its own (fsw/tiepoints' inter-stereo search): prepare()
+    // builds both images' pyramids once; matchPrepared() then matches against them and
+    // gives bit for bit what match() gives with the same images. The images must stay
+    // valid and unchanged until the next prepare() or match() (match() prepares too).
+    // prepare() errors: kNotInitialized; kInvalidArgument: an empty image; kSizeMismatch:
+    // an image over the capacity. matchPrepared() errors (out.count = 0):
+    // kNotInitialized also when nothing has been prepared; the rest as match().
+    [[nodiscard]] Status prepare(const ImageView<const std::uint8_t>& image_a,
+                                 const ImageView<const std::uint8_t>& image_b) noexcept;
+    [[nodiscard]] Status matchPrepared(const FeatureSet& features_a, const MatchPrediction& prediction,
+                                       MatchSet& out, MatchStats* stats = nullptr) noexcept;
+
     [[nodiscard]] const MatcherConfig& config() const noexcept { return config_; }
 
     // Level 0 is the caller's image; levels 1..pyramid_levels live in the workspace.
@@ -141,6 +154,9 @@ private:
 
     MatcherConfig config_{};
     bool initialized_ = false;
+    bool prepared_ = false;
+    Pyramid pyramidA_{};  // of the prepared images (level 0: the caller's)
+    Pyramid pyramidB_{};
     Span<std::uint8_t> storageA_{};
     Span<std::uint8_t> storageB_{};
     Span<std::uint16_t> bank_{};  // warped templates of one search (see the .cpp)
