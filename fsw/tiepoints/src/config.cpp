@@ -1,16 +1,12 @@
 // Config::validate, workspaceBytes and init of the tie-point extractor (tiepoints.hpp).
 
 #include "vtm/core/math.hpp"
+#include "vtm/core/config_check.hpp"
 #include "vtm/tiepoints/tiepoints.hpp"
 #include "workspace.hpp"
 
 namespace vtm::tiepoints {
 namespace {
-
-Status invalid(const char* reason, std::int64_t value = 0) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
-bool inRange(double v, double lo, double hi) noexcept { return math::isFinite(v) && v >= lo && v <= hi; }
 
 terrain::HeightMapConfig mapConfig(const Config& c) noexcept {
     terrain::HeightMapConfig m;
@@ -33,49 +29,49 @@ features::MatcherConfig Config::matcherConfig() const noexcept {
 
 Status Config::validate() const noexcept {
     if (max_width < 1 || max_width > 4096 || max_height < 1 || max_height > 4096) {
-        return invalid("tiepoints.max_width/max_height: must be 1..4096", max_width);
+        return invalidConfig("tiepoints.max_width/max_height: must be 1..4096", max_width);
     }
     if (max_stations < 1 || max_stations > kMaxStations) {
-        return invalid("tiepoints.max_stations: must be 1..64", max_stations);
+        return invalidConfig("tiepoints.max_stations: must be 1..64", max_stations);
     }
     if (max_observations < 1 || max_observations > (1 << 20)) {
-        return invalid("tiepoints.max_observations: must be 1..1048576", max_observations);
+        return invalidConfig("tiepoints.max_observations: must be 1..1048576", max_observations);
     }
     VTM_RETURN_IF_ERROR(detectorConfig().validate());
     VTM_RETURN_IF_ERROR(matcherConfig().validate());
     if (!(math::isFinite(range_min_m) && math::isFinite(range_max_m) && range_min_m > 0.0 &&
           range_min_m < range_max_m)) {
-        return invalid("tiepoints.range_min_m/range_max_m: need 0 < min < max, finite");
+        return invalidConfig("tiepoints.range_min_m/range_max_m: need 0 < min < max, finite");
     }
-    if (!inRange(rig_margin_px, 0.0, 50.0)) {
-        return invalid("tiepoints.rig_margin_px: must be 0..50");
+    if (!isInRange(rig_margin_px, 0.0, 50.0)) {
+        return invalidConfig("tiepoints.rig_margin_px: must be 0..50");
     }
     VTM_RETURN_IF_ERROR(parallax.validate());
     VTM_RETURN_IF_ERROR(intra_grid.validate());
     VTM_RETURN_IF_ERROR(inter_grid.validate());
-    if (!inRange(pointing_sigma_rad, 1e-9, 0.2)) {
-        return invalid("tiepoints.pointing_sigma_rad: must be (0, 0.2]");
+    if (!isInRange(pointing_sigma_rad, 1e-9, 0.2)) {
+        return invalidConfig("tiepoints.pointing_sigma_rad: must be (0, 0.2]");
     }
-    if (!inRange(position_sigma_m, 0.0, 1.0)) {
-        return invalid("tiepoints.position_sigma_m: must be 0..1");
+    if (!isInRange(position_sigma_m, 0.0, 1.0)) {
+        return invalidConfig("tiepoints.position_sigma_m: must be 0..1");
     }
-    if (!inRange(sigma_multiplier, 1.0, 10.0)) {
-        return invalid("tiepoints.sigma_multiplier: must be 1..10");
+    if (!isInRange(sigma_multiplier, 1.0, 10.0)) {
+        return invalidConfig("tiepoints.sigma_multiplier: must be 1..10");
     }
-    if (!inRange(range_band_fraction, 1e-6, 4.0)) {
-        return invalid("tiepoints.range_band_fraction: must be (0, 4]");
+    if (!isInRange(range_band_fraction, 1e-6, 4.0)) {
+        return invalidConfig("tiepoints.range_band_fraction: must be (0, 4]");
     }
-    if (!inRange(map_cell_m, 1e-6, 100.0)) {
-        return invalid("tiepoints.map_cell_m: must be (0, 100]");
+    if (!isInRange(map_cell_m, 1e-6, 100.0)) {
+        return invalidConfig("tiepoints.map_cell_m: must be (0, 100]");
     }
     if (map_side < 4 || map_side > 512) {
-        return invalid("tiepoints.map_side: must be 4..512", map_side);
+        return invalidConfig("tiepoints.map_side: must be 4..512", map_side);
     }
     if (map_fill_radius < 0 || map_fill_radius > 16) {
-        return invalid("tiepoints.map_fill_radius: must be 0..16", map_fill_radius);
+        return invalidConfig("tiepoints.map_fill_radius: must be 0..16", map_fill_radius);
     }
     if (ray_steps < 8 || ray_steps > 4096) {
-        return invalid("tiepoints.ray_steps: must be 8..4096", ray_steps);
+        return invalidConfig("tiepoints.ray_steps: must be 8..4096", ray_steps);
     }
     return Status::ok();
 }

@@ -1,5 +1,6 @@
 // Parallax consistency and grid thinning (verify.hpp).
 #include "vtm/tiepoints/verify.hpp"
+#include "vtm/core/config_check.hpp"
 
 #include "vtm/core/math.hpp"
 
@@ -8,9 +9,6 @@ namespace {
 
 using features::Match;
 
-Status invalid(const char* reason, std::int64_t value = 0) noexcept {
-    return Status(StatusCode::kInvalidConfig, reason, value);
-}
 
 // The up-to-n nearest other matches of match k within radius (ascending distance, ties
 // by index): indices into `matches`, returns how many.
@@ -193,26 +191,26 @@ Vec2 predictParallax(Span<const Match> matches, std::size_t k, const std::int32_
 
 Status ParallaxConfig::validate() const noexcept {
     if (neighbours < 3 || neighbours > kMaxParallaxNeighbours) {
-        return invalid("parallax.neighbours: must be 3..16", neighbours);
+        return invalidConfig("parallax.neighbours: must be 3..16", neighbours);
     }
     if (min_neighbours < 3 || min_neighbours > neighbours) {
-        return invalid("parallax.min_neighbours: must be 3..neighbours", min_neighbours);
+        return invalidConfig("parallax.min_neighbours: must be 3..neighbours", min_neighbours);
     }
     if (!math::isFinite(max_radius_px) || max_radius_px <= 0.0) {
-        return invalid("parallax.max_radius_px: must be finite and > 0");
+        return invalidConfig("parallax.max_radius_px: must be finite and > 0");
     }
     if (!math::isFinite(tolerance_px) || tolerance_px <= 0.0) {
-        return invalid("parallax.tolerance_px: must be finite and > 0");
+        return invalidConfig("parallax.tolerance_px: must be finite and > 0");
     }
     return Status::ok();
 }
 
 Status ThinningConfig::validate() const noexcept {
     if (cols < 1 || cols > 256) {
-        return invalid("grid.cols: must be 1..256", cols);
+        return invalidConfig("grid.cols: must be 1..256", cols);
     }
     if (rows < 1 || rows > 256) {
-        return invalid("grid.rows: must be 1..256", rows);
+        return invalidConfig("grid.rows: must be 1..256", rows);
     }
     return Status::ok();
 }
