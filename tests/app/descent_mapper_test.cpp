@@ -319,6 +319,12 @@ TEST_F(DescentMapperTest, TruePosesGiveTheRenderedDepthOnEveryPairOfTheDescent) 
 // the refinement from the images is what makes the map: against the same mapper with
 // refine_pose off (the navigation pose as it is), on the same frames in the same run.
 TEST_F(DescentMapperTest, RefinementRemovesTheNavigationErrorFromEveryPair) {
+#if defined(VTM_TEST_UNDER_EMULATOR)
+    // Host only: two requests, 60 s of qemu-ppc. Under qemu the refine stage runs in the
+    // true-pose test above (its correction bounded); a descent's bits with the navigation's
+    // poses are run.target_bits' (ppc750, the whole main job against the host's).
+    GTEST_SKIP() << "host only (60 s under qemu-ppc)";
+#endif
     DescentMapperConfig c = smallConfig();
     ASSERT_TRUE(start(c, DescentMapper::workspaceBytes(c)).isOk());
     printHeader();

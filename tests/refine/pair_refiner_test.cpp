@@ -221,8 +221,16 @@ void checkScene(Scene scene) {
     EXPECT_LT(rel[rel.size() / 2], 0.05);
 }
 
+// Host only: under qemu-ppc the ground scene's refinement (warped templates over the visible
+// ground) took 90 s. Its bits on every target are the determinism suite's wide_baseline
+// section (the same refiner on the ground scene of a rendered rover pair); under qemu the
+// general scene below runs the refiner against the truth.
 TEST(PairRefiner, GroundSceneRefinesTheRotationAgainstTheTruePoseWithoutHeap) {
+#if defined(VTM_TEST_UNDER_EMULATOR)
+    GTEST_SKIP() << "host only (90 s under qemu-ppc); the determinism section covers its bits";
+#else
     checkScene(Scene::kGround);
+#endif
 }
 
 TEST(PairRefiner, GeneralSceneRefinesTheRotationAgainstTheTruePoseWithoutHeap) {
