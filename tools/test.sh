@@ -103,7 +103,7 @@ memcheck_executables() {  # the host unit-test executables memcheck runs
   local exe
   for exe in "$1"/tests/vtm_*_tests "$1"/tests/*/vtm_*_tests; do
     case "$(basename "$exe")" in
-      *peer*|*accuracy*|*eval*|*cli*|vtm_app_tests|vtm_app_orbital_tests|vtm_msl_navcam_tests|vtm_strecha_tests|vtm_pds_panorama_tests|vtm_pds_pointing_tests) ;;
+      *peer*|*accuracy*|*eval*|*cli*|vtm_app_tests|vtm_app_orbital_tests|vtm_msl_navcam_tests|vtm_strecha_tests|vtm_pds_panorama_tests|vtm_pds_pointing_tests|vtm_app_panorama_tests) ;;
       *) echo "$exe" ;;
     esac
   done
@@ -114,8 +114,8 @@ memcheck() {  # the host unit-test executables under valgrind: uninitialised rea
   # abort); MathAccuracy.*: valgrind computes x87 long double at double precision, so their
   # high-precision reference is not one there; NoHeapGuard.*: valgrind replaces operator
   # new/delete with its own, so the guard's counters cannot see them there.
-  # Also left out: the peer, accuracy, evaluation and command-line suites and vtm_app_tests
-  # (they run whole requests: 30 s natively, far longer under valgrind); the MER frames'
+  # Also left out: the peer, accuracy, evaluation and command-line suites, vtm_app_tests and
+  # vtm_app_panorama_tests (they run whole requests: 30 s natively, far longer under valgrind); the MER frames'
   # tie points and pointing adjustment (vtm_pds_panorama_tests, vtm_pds_pointing_tests: whole
   # 1024^2 frames and OpenCV's adjusters, 54 s of valgrind CPU and more; their reader is
   # vtm_pds_tests, in, and their matcher and adjuster are the features and bundle modules,
