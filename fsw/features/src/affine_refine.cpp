@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "feature_limits.hpp"
 #include "floor_int.hpp"
 #include "vtm/core/math.hpp"
 
@@ -14,9 +15,8 @@ constexpr std::int32_t kHalf = kAffineWindow / 2;
 constexpr std::int32_t kSamples = kAffineWindow * kAffineWindow;
 constexpr std::int32_t kParams = 8;  // b (2), warp (4, row-major), gain, offset
 constexpr double kGradientStep_px = 0.5;
-// The same trust bounds as the template matcher's plane-induced warps.
-constexpr double kMaxWarpArea = 16.0;
-constexpr double kMaxWarpEntry = 8.0;
+using detail::kMaxWarpArea;  // the template matcher's trust bounds for a warp
+using detail::kMaxWarpEntry;
 
 using Mat8 = Eigen::Matrix<double, kParams, kParams>;
 using Vec8 = Eigen::Matrix<double, kParams, 1>;

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "feature_limits.hpp"
+
 namespace vtm::features {
 namespace {
 
-constexpr std::int32_t kMaxCapacityPx = 4096;
+using detail::kMaxCapacityPx;
 constexpr std::int32_t kMaxGrid = 64;
 constexpr std::int32_t kMaxPerCell = 64;
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "feature_limits.hpp"
 #include "floor_int.hpp"
 #include "vtm/core/image_pyramid.hpp"
 #include "vtm/core/math.hpp"
@@ -12,16 +13,13 @@
 namespace vtm::features {
 namespace {
 
-constexpr std::int32_t kMaxCapacityPx = 4096;
+using detail::kMaxCapacityPx;
+using detail::kMaxWarpArea;
+using detail::kMaxWarpEntry;
 // Template samples are bilinear with weights quantised to 1/kWeightOne, and stored in
 // 1/kWeightOne grey levels (uint16, at most 255 * 256): all NCC sums stay exact integers.
 constexpr std::int32_t kWeightShift = 8;
 constexpr std::int32_t kWeightOne = 1 << kWeightShift;
-// A plane-induced warp is trusted only inside these bounds (beyond them the plane is seen
-// almost edge-on from one camera, or from its back side by the other): area ratio
-// det M in [1/16, 16] and every entry within +-8.
-constexpr double kMaxWarpArea = 16.0;
-constexpr double kMaxWarpEntry = 8.0;
 // Step along the plane for the finite-difference Jacobians, relative to the range (the
 // projection is smooth: only the ratio of the two Jacobians matters).
 constexpr double kPlaneStepRel = 0.01;

@@ -7,7 +7,8 @@
 namespace vtm::hal::detail {
 namespace {
 
-// See text_lines.cpp: interrupted reads are retried a bounded number of times.
+// read() interrupted by a signal is retried this many times before it counts as a failure,
+// so that a signal storm cannot hold init in an unbounded loop.
 constexpr int kMaxInterruptedReads = 16;
 
 // Closes the descriptor on every return path. A read-only descriptor has nothing to
@@ -29,8 +30,9 @@ private:
     int fd_;
 };
 
-// One read() with EINTR retried; bytes read (0 at end of file) or -1 with errno set.
-ssize_t readSome(int fd, std::uint8_t* into, std::size_t bytes) noexcept {
+}  // namespace
+
+ssize_t readSome(int fd, void* into, std::size_t bytes) noexcept {
     for (int attempt = 0; attempt < kMaxInterruptedReads; ++attempt) {
         const ssize_t n = ::read(fd, into, bytes);
         if (n >= 0 || errno != EINTR) {
@@ -39,8 +41,6 @@ ssize_t readSome(int fd, std::uint8_t* into, std::size_t bytes) noexcept {
     }
     return -1;
 }
-
-}  // namespace
 
 Status readWholeFile(const char* path, std::uint8_t* buffer, std::size_t capacity, std::size_t& size) noexcept {
     const ReadOnlyFd fd(path);

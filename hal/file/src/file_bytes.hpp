@@ -4,10 +4,15 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <sys/types.h>
 
 #include "vtm/core/status.hpp"
 
 namespace vtm::hal::detail {
+
+// One read() with EINTR retried a bounded number of times (a signal storm cannot hold
+// init in an unbounded loop): bytes read (0 at end of file) or -1 with errno set.
+[[nodiscard]] ssize_t readSome(int fd, void* into, std::size_t bytes) noexcept;
 
 // Reads the file at `path` into buffer[0, capacity) and sets `size` to its length.
 // kIoError: "frame: cannot open file" / "frame: read failed" (detail = errno).

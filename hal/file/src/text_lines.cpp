@@ -4,12 +4,10 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "file_bytes.hpp"
+
 namespace vtm::hal::detail {
 namespace {
-
-// read() interrupted by a signal is retried this many times before it counts as a failure,
-// so that a signal storm cannot hold init in an unbounded loop.
-constexpr int kMaxInterruptedReads = 16;
 
 bool isFieldSeparator(char c) noexcept {
     // '\r' too: a manifest written on Windows ends its lines with "\r\n".
@@ -34,19 +32,14 @@ Status TextFile::open(const char* path) noexcept {
 }
 
 Status TextFile::refill() noexcept {
-    for (int attempt = 0; attempt < kMaxInterruptedReads; ++attempt) {
-        const ssize_t n = ::read(fd_, chunk_, kChunkBytes);
-        if (n >= 0) {
-            chunk_len_ = static_cast<std::size_t>(n);
-            chunk_pos_ = 0U;
-            eof_ = (n == 0);
-            return Status::ok();
-        }
-        if (errno != EINTR) {
-            return Status(StatusCode::kIoError, reasons_.read_failed, errno);
-        }
+    const ssize_t n = readSome(fd_, chunk_, kChunkBytes);
+    if (n < 0) {
+        return Status(StatusCode::kIoError, reasons_.read_failed, errno);
     }
-    return Status(StatusCode::kIoError, reasons_.read_failed, EINTR);
+    chunk_len_ = static_cast<std::size_t>(n);
+    chunk_pos_ = 0U;
+    eof_ = (n == 0);
+    return Status::ok();
 }
 
 Status TextFile::nextLine() noexcept {
