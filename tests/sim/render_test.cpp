@@ -26,7 +26,6 @@ constexpr std::int32_t kW = 96;
 constexpr std::int32_t kH = 64;
 constexpr double kHfovDeg = 60.0;
 
-const Terrain& buildTerrain(const TerrainParams& params) { return buildTerrainInPool(params); }
 
 TerrainParams planeParams() {
     TerrainParams p;
@@ -64,6 +63,21 @@ TerrainParams smallMarsParams() {
     p.levels = 8;
     p.rock_region_radius_m = 15.0;
     return p;
+}
+
+// Each of the three worlds is built once per process, in a pool slot of its own (terrain
+// builds dominate these tests under qemu: about 5 s of qemu-ppc each).
+const Terrain& planeTerrain() {
+    static const Terrain& t = buildTerrainInPool(planeParams(), 0);
+    return t;
+}
+const Terrain& domeTerrain() {
+    static const Terrain& t = buildTerrainInPool(domeParams(), 1);
+    return t;
+}
+const Terrain& smallMarsTerrain() {
+    static const Terrain& t = buildTerrainInPool(smallMarsParams(), 2);
+    return t;
 }
 
 // A CAHVOR camera of kW x kH pixels: a 60 degree pinhole's C, A, H, V, the distortion
@@ -185,7 +199,7 @@ double sphereT(const TerrainParams& p, const Vec3& o, const Vec3& d) {
 
 void expectPlaneDepth(const CameraModel& model) {
     const TerrainParams p = planeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = planeTerrain();
     const RigidPose pose = groundView(p.base_elevation_m);
     Frame f;
     render(request(t, model, pose, noiselessSensor(8)), f);
@@ -217,7 +231,7 @@ TEST(SimRender, PlaneDepthIsAnalyticCahvor) { expectPlaneDepth(cahvorCamera()); 
 // bilinear surface: c^2/4 times the curvature of the height field (R^2 / (R^2 - r^2)^1.5).
 void expectDomeOnSphere(const CameraModel& model) {
     const TerrainParams p = domeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = domeTerrain();
     const RigidPose pose = poseLookingAt(Vec3(0.0, 0.0, -1.2), Vec3(3.0, 0.0, -0.4));
     Frame f;
     render(request(t, model, pose, noiselessSensor(8)), f);
@@ -258,7 +272,7 @@ TEST(SimRender, DomeHitsLieOnTheAnalyticSphereCahvor) { expectDomeOnSphere(cahvo
 // The truth is self-consistent: the stored 3-D point projects back to its pixel, and
 // range and depth are the distance and the axial distance of that point.
 TEST(SimRender, TruthProjectsBackToItsPixel) {
-    const Terrain& t = buildTerrain(smallMarsParams());
+    const Terrain& t = smallMarsTerrain();
     const double ground = t.elevationAt(0.0, 0.0);
     for (const CameraModel& model : {cahvorCamera(), pinholeCamera()}) {
         const RigidPose pose = groundView(ground);
@@ -318,7 +332,7 @@ void computeDisparity(const Terrain& t, const CameraModel& m, const RigidPose& l
 
 TEST(SimRender, RectifiedDisparityOverThePlaneIsAnalytic) {
     const TerrainParams p = planeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = planeTerrain();
     const CameraModel m = makePinhole(kW, kH, kHfovDeg);
     const RigidPose left = groundView(p.base_elevation_m);
     const double baseline_m = 0.3;
@@ -345,7 +359,7 @@ TEST(SimRender, RectifiedDisparityOverThePlaneIsAnalytic) {
 // camera's own truth, on the same 3-D point (up to the interpolation between the two
 // right pixels around x - d), and the point re-projects to exactly (x - d, y).
 TEST(SimRender, DisparityLeadsToTheSamePointInTheRightTruth) {
-    const Terrain& t = buildTerrain(smallMarsParams());
+    const Terrain& t = smallMarsTerrain();
     const CameraModel m = makePinhole(kW, kH, kHfovDeg);
     const RigidPose left = groundView(t.elevationAt(0.0, 0.0));
     const double baseline_m = 0.4;
@@ -387,7 +401,7 @@ TEST(SimRender, DisparityLeadsToTheSamePointInTheRightTruth) {
 // agree with the analytic test "the segment right centre -> point crosses the sphere".
 TEST(SimRender, OcclusionCodesAgreeWithTheAnalyticDome) {
     const TerrainParams p = domeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = domeTerrain();
     const CameraModel m = makePinhole(kW, kH, kHfovDeg);
     const RigidPose left = poseLookingAt(Vec3(0.0, -0.5, -1.0), Vec3(4.0, 0.0, 0.0));
     const double baseline_m = 0.6;
@@ -424,7 +438,7 @@ TEST(SimRender, OcclusionCodesAgreeWithTheAnalyticDome) {
 
 TEST(SimRender, DoublingExposureDoublesTheSignal) {
     const TerrainParams p = planeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = planeTerrain();
     FrameRequest r = request(t, pinholeCamera(), groundView(p.base_elevation_m), noiselessSensor(12));
     r.sensor.dark_offset_dn = 20.0;
     Frame a;
@@ -448,7 +462,7 @@ TEST(SimRender, DoublingExposureDoublesTheSignal) {
 
 TEST(SimRender, VignettingDarkensCornersByTheConfiguredFactor) {
     const TerrainParams p = planeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = planeTerrain();
     FrameRequest r = request(t, pinholeCamera(), groundView(p.base_elevation_m), noiselessSensor(12));
     r.sensor.gain_dn_per_e = 0.2;  // ~2000 DN: rounding below 0.05 %
     Frame flat;
@@ -474,7 +488,7 @@ TEST(SimRender, VignettingDarkensCornersByTheConfiguredFactor) {
 
 TEST(SimRender, NoiseMatchesShotPlusReadNoise) {
     const TerrainParams p = planeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = planeTerrain();
     FrameRequest r = request(t, pinholeCamera(), groundView(p.base_elevation_m), noiselessSensor(12));
     r.sensor.gain_dn_per_e = 0.2;  // ~ 10000 e- (sigma_shot ~ 100 e-), ~ 2100 DN
     r.sensor.dark_offset_dn = 100.0;
@@ -508,7 +522,7 @@ TEST(SimRender, NoiseMatchesShotPlusReadNoise) {
 
 TEST(SimRender, SaturationClipsAtFullWellAndAtTheTopCode) {
     const TerrainParams p = planeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = planeTerrain();
     FrameRequest r = request(t, pinholeCamera(), groundView(p.base_elevation_m), noiselessSensor(12));
     r.sensor.exposure_s = 1.0;  // ~ 1e6 e-: far over the full well
     r.sensor.full_well_e = 20000.0;
@@ -537,7 +551,7 @@ TEST(SimRender, SaturationClipsAtFullWellAndAtTheTopCode) {
 }
 
 TEST(SimRender, TwelveBitOutputStaysBelow4096And8BitUsesItsRange) {
-    const Terrain& t = buildTerrain(smallMarsParams());
+    const Terrain& t = smallMarsTerrain();
     FrameRequest r = request(t, pinholeCamera(), groundView(t.elevationAt(0.0, 0.0)), SensorParams());
     r.sensor.bit_depth = 12;
     r.sensor.gain_dn_per_e = 0.3;
@@ -557,8 +571,7 @@ TEST(SimRender, TwelveBitOutputStaysBelow4096And8BitUsesItsRange) {
 // Shadows: a dome lit from a low sun casts a shadow on the plane behind it; the shadowed
 // pixels are darker than the lit plane next to them and exist only with shadows on.
 TEST(SimRender, DomeCastsAShadowOnlyWhenShadowsAreOn) {
-    const TerrainParams p = domeParams();
-    const Terrain& t = buildTerrain(p);
+    const Terrain& t = domeTerrain();
     FrameRequest r = request(t, makePinhole(kW, kH, kHfovDeg), poseLookingAt(Vec3(0.0, 0.0, -2.5), Vec3(3.5, 0.0, 0.0)),
                              noiselessSensor(8));
     r.lighting.to_sun_site = Vec3(-0.1, -0.9, -0.35).normalized();  // low sun in the west: shadow to the east
@@ -595,7 +608,7 @@ std::uint64_t fnv(const std::vector<std::uint8_t>& bytes) {
 }
 
 TEST(SimRender, SameInputsGiveSameBytesAndBandsMatchTheWholeFrame) {
-    const Terrain& t = buildTerrain(smallMarsParams());
+    const Terrain& t = smallMarsTerrain();
     FrameRequest r = request(t, cahvorCamera(), groundView(t.elevationAt(0.0, 0.0)), SensorParams());
     r.lighting.shadows = true;
     r.frame_index = 3U;
@@ -624,7 +637,7 @@ TEST(SimRender, SameInputsGiveSameBytesAndBandsMatchTheWholeFrame) {
 }
 
 TEST(SimRender, RenderFrameTouchesNoHeap) {
-    const Terrain& t = buildTerrain(smallMarsParams());
+    const Terrain& t = smallMarsTerrain();
     FrameRequest r = request(t, cahvorCamera(), groundView(t.elevationAt(0.0, 0.0)), SensorParams());
     r.lighting.shadows = true;
     static std::uint8_t image[kW * kH];
@@ -647,7 +660,7 @@ TEST(SimRender, RenderFrameTouchesNoHeap) {
 }
 
 TEST(SimRender, BadRequestsAreRejectedWithAReason) {
-    const Terrain& t = buildTerrain(planeParams());
+    const Terrain& t = planeTerrain();
     Frame f;
     FrameRequest r = request(t, pinholeCamera(), groundView(0.3), noiselessSensor(8));
     FrameRequest bad = r;
