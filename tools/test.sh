@@ -99,10 +99,16 @@ cross_args() {
   esac
 }
 
-memcheck_executables() {  # the host unit-test executables memcheck runs
+memcheck_executables() {  # the host unit-test executables memcheck runs, the longest first
   local exe
+  # The longest under valgrind start first, so that none of them ends the step alone on
+  # one core (docs/static-analysis.md, memcheck row).
+  for exe in "$1"/tests/tiepoints/vtm_tiepoints_tests "$1"/tests/refine/vtm_refine_tests; do
+    [ -x "$exe" ] && echo "$exe"
+  done
   for exe in "$1"/tests/vtm_*_tests "$1"/tests/*/vtm_*_tests; do
     case "$(basename "$exe")" in
+      vtm_tiepoints_tests|vtm_refine_tests) ;;
       *peer*|*accuracy*|*eval*|*cli*|vtm_app_tests|vtm_app_orbital_tests|vtm_msl_navcam_tests|vtm_strecha_tests|vtm_pds_panorama_tests|vtm_pds_pointing_tests|vtm_app_panorama_tests) ;;
       *) echo "$exe" ;;
     esac
