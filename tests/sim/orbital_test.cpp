@@ -26,13 +26,10 @@
 namespace vtm::sim {
 namespace {
 
-// Each world built once, in its own pool slot (terrain builds dominate under qemu).
+// Each world in its own pool slot (built once per process).
 enum class World { kFlatAlbedo, kDome, kSmallMars };
 const Terrain& buildTerrain(World world, const TerrainParams& params) {
-    static const Terrain* terrains[kTerrainPoolSlots] = {};
-    const int slot = static_cast<int>(world);
-    if (terrains[slot] == nullptr) terrains[slot] = &buildTerrainInPool(params, slot);
-    return *terrains[slot];
+    return terrainInPool(params, static_cast<int>(world));
 }
 
 // A flat plane with albedo patches of a few metres and no fine texture.

@@ -44,10 +44,7 @@ const Scenario& smallScenario() {
     static const Scenario s = parseOk(readScenarioFile("test_panorama_small.scn"));
     return s;
 }
-const Terrain& smallTerrain() {
-    static const Terrain& t = buildTerrainInPool(smallScenario().terrain, 0);
-    return t;
-}
+const Terrain& smallTerrain() { return terrainInPool(smallScenario().terrain, 0); }
 
 // The test scenario text with the line starting with `key` replaced by `line` (or, when
 // no such line exists, `line` added at the end of `section`).

@@ -26,7 +26,6 @@ constexpr std::int32_t kW = 96;
 constexpr std::int32_t kH = 64;
 constexpr double kHfovDeg = 60.0;
 
-
 TerrainParams planeParams() {
     TerrainParams p;
     p.kind = TerrainKind::kPlane;
@@ -65,20 +64,10 @@ TerrainParams smallMarsParams() {
     return p;
 }
 
-// Each of the three worlds is built once per process, in a pool slot of its own (terrain
-// builds dominate these tests under qemu: about 5 s of qemu-ppc each).
-const Terrain& planeTerrain() {
-    static const Terrain& t = buildTerrainInPool(planeParams(), 0);
-    return t;
-}
-const Terrain& domeTerrain() {
-    static const Terrain& t = buildTerrainInPool(domeParams(), 1);
-    return t;
-}
-const Terrain& smallMarsTerrain() {
-    static const Terrain& t = buildTerrainInPool(smallMarsParams(), 2);
-    return t;
-}
+// The three worlds, each in a pool slot of its own (built once per process).
+const Terrain& planeTerrain() { return terrainInPool(planeParams(), 0); }
+const Terrain& domeTerrain() { return terrainInPool(domeParams(), 1); }
+const Terrain& smallMarsTerrain() { return terrainInPool(smallMarsParams(), 2); }
 
 // A CAHVOR camera of kW x kH pixels: a 60 degree pinhole's C, A, H, V, the distortion
 // axis O 2 degrees off A, and a moderate barrel distortion.
