@@ -46,9 +46,9 @@ constexpr double kFrontEndTargetMaxBaseline_m = 1.0;
 // targets there. The CI form draws them only where they are asserted
 // (kFrontEndTargetMaxBaseline_m); the long form (VTM_EVAL_FULL) up to 2 m, for the tables.
 constexpr double kExtraDrawsMaxBaseline_m = 2.0;
-double extraDrawsMaxBaseline_m() {
-    return std::getenv("VTM_EVAL_FULL") != nullptr ? kExtraDrawsMaxBaseline_m : kFrontEndTargetMaxBaseline_m;
-}
+// The long form of the sweep (VTM_EVAL_FULL set) rather than the CI form.
+bool longForm() { return std::getenv("VTM_EVAL_FULL") != nullptr; }
+double extraDrawsMaxBaseline_m() { return longForm() ? kExtraDrawsMaxBaseline_m : kFrontEndTargetMaxBaseline_m; }
 constexpr int kExtraDraws = 3;
 // Issue 5's targets: RMS vertical disparity after rectification, and its improvement over
 // rectifying with the raw odometry.
@@ -693,7 +693,7 @@ std::vector<CaseResult> runSweep(bool hillside, const std::vector<double>& basel
 // matches are asserted, as everywhere.
 TEST(WideBaselineEval, SweepPoseAndVerticalDisparityAgainstTruthAndOpenCV) {
     std::vector<double> baselines_m;
-    const bool full = std::getenv("VTM_EVAL_FULL") != nullptr;
+    const bool full = longForm();
     for (const double b : kBaselines_m) {
         if (full || b <= 5.0) {
             baselines_m.push_back(b);

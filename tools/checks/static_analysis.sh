@@ -115,7 +115,7 @@ json.dump(all_units, open(os.path.join(os.path.dirname(out), "header_units.json"
 # clang-tidy's matchers walk the whole AST, Eigen's instantiations included, once per unit:
 # the flight .cpp files of one directory that share their flags are analysed together, in
 # one generated unit that includes them all (a module's unit instead of one per file: 6x
-# less time, docs/static-analysis.md "Cost"). A file that defines or undefines a macro
+# less time, docs/static-analysis.md "Module units"). A file that defines or undefines a macro
 # (it would change the files after it) stays alone; a unit that does not compile (two
 # files with a same-named internal symbol) is analysed file by file (the runner below).
 flight = entries[:len(entries) - n_hdr]
