@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "determinism_suite.hpp"
-#include "hasher.hpp"
+#include "vtm/core/hasher.hpp"
 #include "panorama_network.hpp"
 #include "vtm/bundle/bundle_adjuster.hpp"
 

@@ -1,5 +1,5 @@
 #include "determinism_suite.hpp"
-#include "hasher.hpp"
+#include "vtm/core/hasher.hpp"
 
 #include <cstring>
 

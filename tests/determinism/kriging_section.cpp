@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "determinism_suite.hpp"
-#include "hasher.hpp"
+#include "vtm/core/hasher.hpp"
 #include "sim/render.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "determinism_suite.hpp"
-#include "hasher.hpp"
+#include "vtm/core/hasher.hpp"
 #include "sim/panorama.hpp"
 #include "sim/scenario.hpp"
 #include "vtm/core/arena.hpp"

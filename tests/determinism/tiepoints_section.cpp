@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "determinism_suite.hpp"
-#include "hasher.hpp"
+#include "vtm/core/hasher.hpp"
 #include "panorama_scene.hpp"
 #include "vtm/tiepoints/tiepoints.hpp"
 

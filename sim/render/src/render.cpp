@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "sensor_model.hpp"
+#include "sim/render_cache.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/math.hpp"
 #include "vtm/core/random.hpp"
@@ -279,6 +280,15 @@ RigidPose poseLookingAt(const Vec3& eye_site_m, const Vec3& target_site_m) noexc
 
 Status renderFrame(const FrameRequest& request, const FrameOutput& out, RenderStats* stats) noexcept {
     VTM_RETURN_IF_ERROR(validateRequest(request, out));
+    RenderCache* const cache = renderCache();
+    const std::uint64_t key = cache != nullptr ? frameKey(request, out) : 0U;
+    RenderStats cached;
+    if (cache != nullptr && cache->load(key, request, out, cached)) {
+        if (stats != nullptr) {
+            *stats = cached;
+        }
+        return Status::ok();
+    }
     FrameSetup f;
     f.terrain = request.terrain;
     f.model = &request.model;
@@ -295,6 +305,9 @@ Status renderFrame(const FrameRequest& request, const FrameOutput& out, RenderSt
     RenderStats local;
     for (std::int32_t y = request.first_row; y < end; ++y) {
         renderRow(f, out, y, local);
+    }
+    if (cache != nullptr) {
+        cache->store(key, request, out, local);
     }
     if (stats != nullptr) {
         *stats = local;

@@ -1,6 +1,7 @@
-// The determinism suite's hash: FNV-1a 64 over a canonical (little-endian) byte order of
-// each value's bit pattern, so that the same value hashes the same on big- and
-// little-endian targets. One class for the suite and every section file.
+// A canonical hash: FNV-1a 64 over a little-endian byte order of each value's bit
+// pattern, so that the same values hash the same on big- and little-endian targets.
+// The determinism suite hashes every module's products with it; the simulator keys its
+// render cache with it (sim/render_cache.hpp). Not a cryptographic hash.
 #pragma once
 
 #include <cstdint>
@@ -8,7 +9,7 @@
 
 #include "vtm/core/pose.hpp"
 
-namespace vtm::determinism {
+namespace vtm {
 
 class Hasher {
 public:
@@ -49,4 +50,4 @@ private:
     std::uint64_t h_ = 0xCBF29CE484222325ULL;
 };
 
-}  // namespace vtm::determinism
+}  // namespace vtm
