@@ -155,19 +155,27 @@ Template buildTemplate(const ImageView<const std::uint8_t>& img, Pos centre, con
 
 // NCC of template `t` with the window around `b` in `to` (which must fit). 0 when either
 // is flat (correlation undefined).
+// A row's sums fit 32 bits (at most 31 products of 255 * 256 by 255: 5.2e8 < 2^32), so the
+// inner loop multiplies in 32 bits, which 32-bit targets do in one instruction, and only
+// the row totals are added in 64: the same integers as 64-bit sums throughout.
 double ncc(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept {
+    static_assert(31U * (255U * kWeightOne) * 255U < 0xFFFFFFFFU, "a row's sum of products must fit 32 bits");
     std::int64_t sb = 0, sbb = 0, sab = 0;
     const std::uint16_t* ta = t.values;
     for (std::int32_t dy = -half; dy <= half; ++dy) {
         const std::uint8_t* rb = to.row(b.y + dy) + b.x;
+        std::uint32_t row_b = 0U, row_bb = 0U, row_ab = 0U;
         for (std::int32_t dx = -half; dx <= half; ++dx) {
-            const std::int64_t va = *ta;
-            const std::int64_t vb = rb[dx];
+            const std::uint32_t va = *ta;
+            const std::uint32_t vb = rb[dx];
             ++ta;
-            sb += vb;
-            sbb += vb * vb;
-            sab += va * vb;
+            row_b += vb;
+            row_bb += vb * vb;
+            row_ab += va * vb;
         }
+        sb += row_b;
+        sbb += row_bb;
+        sab += row_ab;
     }
     const std::int64_t n = static_cast<std::int64_t>(2 * half + 1) * (2 * half + 1);
     const std::int64_t var_a = n * t.sums.sum_sq - t.sums.sum * t.sums.sum;
@@ -377,32 +385,51 @@ void predictSamples(const Geometry& g, const Vec2& pixel, RaySamples& rs) noexce
     }
 }
 
-// Squared distance from p to the polyline poly[0..n), and the index of the vertex
-// nearest to p (the ray sample whose template is used at p).
-struct Nearest {
-    double dist_sq_polyline = 0.0;
+// Index of the vertex of poly[0..n) nearest to p (the ray sample whose template is used
+// at p; the first of equal distances).
+std::int32_t nearestVertex(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept {
+    double best = (p - poly[0]).squaredNorm();
     std::int32_t vertex = 0;
-};
-Nearest nearestOnPolyline(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept {
-    Nearest r;
-    r.dist_sq_polyline = (p - poly[0]).squaredNorm();
-    double best_vertex = r.dist_sq_polyline;
     for (std::int32_t i = 1; i < n; ++i) {
-        const Vec2 d = poly[i] - poly[i - 1];
+        const double dv = (p - poly[i]).squaredNorm();
+        if (dv < best) {
+            best = dv;
+            vertex = i;
+        }
+    }
+    return vertex;
+}
+
+// Whether p is within the squared distance limit_sq of the polyline poly[0..n): its first
+// vertex or some segment (closest point by the clamped projection) is. A segment whose
+// bounding box lies farther than that, with a guard far above rounding (1e-6 relative),
+// cannot be and is not projected on: most positions of a search region are far from most
+// segments. A NaN distance to the first vertex counts as within, a NaN segment as not.
+bool withinPolyline(const Vec2& p, const Vec2* poly, std::int32_t n, double limit_sq) noexcept {
+    if (!((p - poly[0]).squaredNorm() > limit_sq)) {
+        return true;
+    }
+    const double guard = limit_sq * (1.0 + 1e-6) + 1e-9;
+    for (std::int32_t i = 1; i < n; ++i) {
+        const Vec2& a = poly[i - 1];
+        const Vec2& b = poly[i];
+        const double gx = std::max({0.0, std::min(a.x(), b.x()) - p.x(), p.x() - std::max(a.x(), b.x())});
+        const double gy = std::max({0.0, std::min(a.y(), b.y()) - p.y(), p.y() - std::max(a.y(), b.y())});
+        if (gx * gx + gy * gy > guard) {
+            continue;
+        }
+        const Vec2 d = b - a;
         const double len2 = d.squaredNorm();
         double s = 0.0;
         if (len2 > 0.0) {
-            s = std::clamp((p - poly[i - 1]).dot(d) / len2, 0.0, 1.0);
+            s = std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
         }
-        const Vec2 q = poly[i - 1] + s * d;
-        r.dist_sq_polyline = std::min(r.dist_sq_polyline, (p - q).squaredNorm());
-        const double dv = (p - poly[i]).squaredNorm();
-        if (dv < best_vertex) {
-            best_vertex = dv;
-            r.vertex = i;
+        const Vec2 q = a + s * d;
+        if ((p - q).squaredNorm() <= limit_sq) {
+            return true;
         }
     }
-    return r;
+    return false;
 }
 
 // The level-`level` bounding box of the widened polyline, clipped to the positions where
@@ -481,12 +508,13 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
     const double margin_sq = margin * margin;
     for (std::int32_t y = box.lo.y; y <= box.hi.y; y += step) {
         for (std::int32_t x = box.lo.x; x <= box.hi.x; x += step) {
-            const Nearest nr = nearestOnPolyline(toVec(Pos{x, y}), poly, rs.n);
-            if (nr.dist_sq_polyline > margin_sq) {
+            const Vec2 p = toVec(Pos{x, y});
+            if (!withinPolyline(p, poly, rs.n, margin_sq)) {
                 continue;
             }
+            const std::int32_t vertex = nearestVertex(p, poly, rs.n);
             for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
-                const std::int32_t k_index = h * kRaySamples + nr.vertex;
+                const std::int32_t k_index = h * kRaySamples + vertex;
                 const auto k = static_cast<std::size_t>(k_index);
                 if (!bank.built[k]) {
                     bank.coarse[k] = buildTemplate(*v.from, v.a, rs.unwarp[k], v.half, bank.storage + k * bank.stride);
@@ -605,7 +633,7 @@ Estimate refineAt(const TemplateMatcher::Pyramid& from, const TemplateMatcher::P
         return e;  // cannot happen: the template fits at a coarser level, so here too
     }
     const std::int32_t k_index =
-        step.hyp * kRaySamples + nearestOnPolyline(fromLevel(feature_to_l, l), rs.pixel, rs.n).vertex;
+        step.hyp * kRaySamples + nearestVertex(fromLevel(feature_to_l, l), rs.pixel, rs.n);
     const auto k = static_cast<std::size_t>(k_index);
     const Vec2 frac = toLevel(pixel, l) - toVec(a);  // feature minus template centre, level l
     const Vec2 centre_to = feature_to_l - apply(rs.warp[k], frac);
