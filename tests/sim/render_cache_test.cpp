@@ -10,7 +10,9 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "no_heap_guard.hpp"
@@ -90,16 +92,32 @@ bool sameStats(const RenderStats& a, const RenderStats& b) {
            a.saturated_pixels == b.saturated_pixels && a.bad_ray_pixels == b.bad_ray_pixels;
 }
 
-// A fresh directory under $TMPDIR (or /tmp) for one test's cache.
-std::string freshDirectory() {
-    const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = std::string(tmp != nullptr && tmp[0] != '\0' ? tmp : "/tmp") + "/vtm_render_cache_XXXXXX";
-    std::vector<char> buf(pattern.begin(), pattern.end());
-    buf.push_back('\0');
-    const char* made = ::mkdtemp(buf.data());
-    EXPECT_NE(made, nullptr);
-    return made != nullptr ? std::string(made) : std::string();
-}
+// A fresh directory under $TMPDIR (or /tmp) for one test's cache, removed with the files
+// in it when the test ends.
+class TempDirectory {
+public:
+    TempDirectory() {
+        const char* tmp = std::getenv("TMPDIR");
+        std::string pattern = std::string(tmp != nullptr && tmp[0] != '\0' ? tmp : "/tmp") + "/vtm_render_cache_XXXXXX";
+        std::vector<char> buf(pattern.begin(), pattern.end());
+        buf.push_back('\0');
+        const char* made = ::mkdtemp(buf.data());
+        EXPECT_NE(made, nullptr) << pattern;
+        path_ = made != nullptr ? std::string(made) : std::string();
+    }
+    ~TempDirectory() {
+        if (!path_.empty()) {
+            std::error_code ignored;
+            std::filesystem::remove_all(path_, ignored);
+        }
+    }
+    TempDirectory(const TempDirectory&) = delete;
+    TempDirectory& operator=(const TempDirectory&) = delete;
+    [[nodiscard]] const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
 
 // Installs a cache for one test and takes it away after.
 class CacheScope {
@@ -119,7 +137,8 @@ void roundTrip(int bit_depth) {
     ASSERT_TRUE(renderFrame(r, reference.output(bit_depth, true), &reference_stats).isOk());
     ASSERT_GT(reference_stats.hit_pixels, 0);
 
-    test::FileRenderCache cache(freshDirectory().c_str());
+    const TempDirectory dir;
+    test::FileRenderCache cache(dir.path().c_str());
     ASSERT_TRUE(cache.usable());
     const CacheScope scope(cache);
     Buffers rendered(0xA5U);
@@ -194,7 +213,8 @@ TEST(RenderCache, ADamagedFileIsAMissAndTheFrameIsRendered) {
     Buffers reference(0x11U);
     ASSERT_TRUE(renderFrame(r, reference.output(8, true), nullptr).isOk());
 
-    const std::string dir = freshDirectory();
+    const TempDirectory temp;
+    const std::string& dir = temp.path();
     test::FileRenderCache cache(dir.c_str());
     const CacheScope scope(cache);
     Buffers first(0x11U);
