@@ -213,22 +213,17 @@ TEST(RenderCache, ADamagedFileIsAMissAndTheFrameIsRendered) {
     Buffers reference(0x11U);
     ASSERT_TRUE(renderFrame(r, reference.output(8, true), nullptr).isOk());
 
-    const TempDirectory temp;
-    const std::string& dir = temp.path();
-    test::FileRenderCache cache(dir.c_str());
+    const TempDirectory dir;
+    test::FileRenderCache cache(dir.path().c_str());
     const CacheScope scope(cache);
     Buffers first(0x11U);
     ASSERT_TRUE(renderFrame(r, first.output(8, true), nullptr).isOk());
     ASSERT_EQ(cache.stores(), 1U);
 
     // Flip one byte in the middle of the stored frame.
-    char name[17] = {};
-    const std::uint64_t key = frameKey(r, first.output(8, true));
-    for (int i = 0; i < 16; ++i) {
-        name[i] = "0123456789abcdef"[(key >> (4 * (15 - i))) & 0xFU];
-    }
-    const std::string path = dir + "/" + name + ".frame";
-    const int fd = ::open(path.c_str(), O_RDWR);
+    char path[test::FileRenderCache::kMaxDirChars + 32];
+    ASSERT_TRUE(cache.framePath(frameKey(r, first.output(8, true)), path, sizeof path));
+    const int fd = ::open(path, O_RDWR);
     ASSERT_GE(fd, 0) << path;
     const off_t size = ::lseek(fd, 0, SEEK_END);
     std::uint8_t byte = 0U;

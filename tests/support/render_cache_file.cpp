@@ -54,10 +54,6 @@ int viewsOf(const sim::FrameOutput& out, std::uint32_t mask, Rows* rows) noexcep
     return n;
 }
 
-std::int32_t bandRows(const sim::FrameRequest& r) noexcept {
-    return r.row_count < 0 ? r.model.height_px - r.first_row : r.row_count;
-}
-
 // Buffered writer with a running CRC-32.
 class Sink {
 public:
@@ -182,7 +178,7 @@ Header headerOf(std::uint64_t key, const sim::FrameRequest& r, const sim::FrameO
     h.fields[0] = r.model.width_px;
     h.fields[1] = r.model.height_px;
     h.fields[2] = static_cast<std::uint32_t>(r.first_row);
-    h.fields[3] = static_cast<std::uint32_t>(bandRows(r));
+    h.fields[3] = static_cast<std::uint32_t>(sim::bandRows(r));
     h.fields[4] = sim::renderedViews(r, out);
     return h;
 }
@@ -290,7 +286,7 @@ bool FileRenderCache::load(std::uint64_t key, const sim::FrameRequest& request, 
     }
     Rows views[kMaxViews];
     const int n = viewsOf(out, want.fields[4], views);
-    const std::int32_t end = request.first_row + bandRows(request);
+    const std::int32_t end = request.first_row + sim::bandRows(request);
     for (int v = 0; v < n && ok; ++v) {  // bound: 5 views
         for (std::int32_t y = request.first_row; y < end && ok; ++y) {  // bound: the band's rows
             ok = readRow(s, views[v], y);
@@ -347,7 +343,7 @@ void FileRenderCache::store(std::uint64_t key, const sim::FrameRequest& request,
     }
     Rows views[kMaxViews];
     const int n = viewsOf(out, h.fields[4], views);
-    const std::int32_t end = request.first_row + bandRows(request);
+    const std::int32_t end = request.first_row + sim::bandRows(request);
     for (int v = 0; v < n; ++v) {  // bound: 5 views
         for (std::int32_t y = request.first_row; y < end; ++y) {  // bound: the band's rows
             writeRow(s, views[v], y);

@@ -37,9 +37,11 @@ public:
     [[nodiscard]] std::uint32_t stores() const noexcept { return stores_.load(); }
     [[nodiscard]] std::uint32_t misses() const noexcept { return misses_.load(); }
 
+    // The file of `key`, <dir>/<key as 16 hex digits>.frame, into path (capacity chars with
+    // the terminator; kMaxDirChars + 32 is enough); false if it does not fit.
+    [[nodiscard]] bool framePath(std::uint64_t key, char* path, int capacity) const noexcept;
+
 private:
-    // <dir>/<key>.frame into path (kMaxDirChars + 32 chars); false if it does not fit.
-    bool framePath(std::uint64_t key, char* path, int capacity) const noexcept;
 
     char dir_[kMaxDirChars] = {};
     bool usable_ = false;

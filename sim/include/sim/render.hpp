@@ -111,6 +111,11 @@ struct FrameRequest {
     double max_range_m = 1.0e5;      // rays find no terrain beyond this (sky), > 0
 };
 
+// Rows a request renders: row_count, or from first_row to the last row when it is < 0.
+[[nodiscard]] inline std::int32_t bandRows(const FrameRequest& request) noexcept {
+    return request.row_count < 0 ? request.model.height_px - request.first_row : request.row_count;
+}
+
 struct FrameOutput {
     ImageView<std::uint8_t> image8;    // bit_depth 8: frame size; may be empty otherwise
     ImageView<std::uint16_t> image16;  // bit_depth 12: frame size; may be empty otherwise

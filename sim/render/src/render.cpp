@@ -86,7 +86,7 @@ Status validateRequest(const FrameRequest& r, const FrameOutput& out) noexcept {
         return Status(StatusCode::kInvalidArgument, "request.max_range_m: must be finite and > 0");
     }
     const std::int32_t h = r.model.height_px;
-    const std::int32_t count = r.row_count < 0 ? h - r.first_row : r.row_count;
+    const std::int32_t count = bandRows(r);
     if (r.first_row < 0 || r.first_row >= h || count > h - r.first_row) {
         return Status(StatusCode::kInvalidArgument, "request.first_row/row_count: band outside the frame",
                       r.first_row);
@@ -300,8 +300,7 @@ Status renderFrame(const FrameRequest& request, const FrameOutput& out, RenderSt
     f.max_range_m = request.max_range_m;
     f.noise_seed = request.sensor.noise_seed;
     f.frame_index = request.frame_index;
-    const std::int32_t h = request.model.height_px;
-    const std::int32_t end = request.row_count < 0 ? h : request.first_row + request.row_count;
+    const std::int32_t end = request.first_row + bandRows(request);
     RenderStats local;
     for (std::int32_t y = request.first_row; y < end; ++y) {
         renderRow(f, out, y, local);

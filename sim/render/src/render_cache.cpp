@@ -1,6 +1,8 @@
 // frameKey() and the process's render-cache hook (sim/render_cache.hpp).
 #include "sim/render_cache.hpp"
 
+#include <cstddef>
+
 #include "sim/terrain.hpp"
 #include "vtm/core/hasher.hpp"
 
@@ -22,9 +24,10 @@ static_assert(sizeof(FrameRequest) == 480, "FrameRequest changed: update frameKe
 // inputs, so that no cache written by another renderer is read.
 constexpr std::uint64_t kRendererVersion = 1U;
 
-void addDoubles(Hasher& h, const double* v, int n) noexcept {
-    for (int i = 0; i < n; ++i) {  // bound: n <= 3
-        h.addDouble(v[i]);
+template <std::size_t N>
+void addDoubles(Hasher& h, const double (&v)[N]) noexcept {
+    for (const double x : v) {  // bound: N
+        h.addDouble(x);
     }
 }
 
@@ -32,30 +35,24 @@ void addTerrain(Hasher& h, const TerrainParams& p) noexcept {
     h.addU64(p.seed);
     h.addU64(static_cast<std::uint64_t>(p.kind));
     const double grid[] = {p.centre_north_m, p.centre_east_m, p.finest_cell_m};
-    addDoubles(h, grid, 3);
+    addDoubles(h, grid);
     h.addI64(p.samples_log2);
     h.addI64(p.levels);
     const double shape[] = {p.base_elevation_m,    p.plane_slope_north,  p.plane_slope_east,
                             p.dome_centre_north_m, p.dome_centre_east_m, p.dome_radius_m,
                             p.relief_amplitude_m,  p.relief_longest_wavelength_m, p.relief_hurst};
-    for (const double v : shape) {
-        h.addDouble(v);
-    }
+    addDoubles(h, shape);
     const double craters_rocks[] = {p.crater_density_per_km2, p.crater_sfd_slope,     p.crater_min_diameter_m,
                                     p.crater_max_diameter_m,  p.crater_depth_ratio,   p.crater_rim_ratio,
                                     p.rock_k,                 p.rock_min_diameter_m,  p.rock_max_diameter_m,
                                     p.rock_height_ratio,      p.rock_region_radius_m};
-    for (const double v : craters_rocks) {
-        h.addDouble(v);
-    }
+    addDoubles(h, craters_rocks);
     const double hills_albedo[] = {p.hills_start_m,      p.hills_full_m,          p.hills_amplitude_m,
                                    p.hills_wavelength_m, p.albedo_mean,           p.albedo_variation,
                                    p.albedo_wavelength_m, p.rock_albedo_mean,     p.rock_albedo_spread,
                                    p.texture_contrast,   p.texture_longest_wavelength_m,
                                    p.texture_finest_wavelength_m};
-    for (const double v : hills_albedo) {
-        h.addDouble(v);
-    }
+    addDoubles(h, hills_albedo);
 }
 
 void addModel(Hasher& h, const CameraModel& m) noexcept {
@@ -63,13 +60,13 @@ void addModel(Hasher& h, const CameraModel& m) noexcept {
     h.addU64(m.width_px);
     h.addU64(m.height_px);
     const double pinhole[] = {m.fx_px, m.fy_px, m.cx_px, m.cy_px, m.k1, m.k2, m.k3, m.p1, m.p2};
-    for (const double v : pinhole) {
-        h.addDouble(v);
-    }
-    const double* const vectors[] = {m.c, m.a, m.h, m.v, m.o, m.r};
-    for (const double* v : vectors) {
-        addDoubles(h, v, 3);
-    }
+    addDoubles(h, pinhole);
+    addDoubles(h, m.c);
+    addDoubles(h, m.a);
+    addDoubles(h, m.h);
+    addDoubles(h, m.v);
+    addDoubles(h, m.o);
+    addDoubles(h, m.r);
 }
 
 void addLighting(Hasher& h, const Lighting& l) noexcept {
@@ -83,9 +80,7 @@ void addLighting(Hasher& h, const Lighting& l) noexcept {
 void addSensor(Hasher& h, const SensorParams& s) noexcept {
     h.addI64(s.bit_depth);
     const double values[] = {s.exposure_s, s.gain_dn_per_e, s.full_well_e, s.read_noise_e};
-    for (const double v : values) {
-        h.addDouble(v);
-    }
+    addDoubles(h, values);
     h.addU64(s.shot_noise ? 1U : 0U);
     h.addDouble(s.vignetting);
     h.addDouble(s.dark_offset_dn);
@@ -107,9 +102,8 @@ std::uint64_t frameKey(const FrameRequest& request, const FrameOutput& out) noex
     addLighting(h, request.lighting);
     addSensor(h, request.sensor);
     h.addU64(request.frame_index);
-    const std::int32_t rows = request.row_count < 0 ? request.model.height_px - request.first_row : request.row_count;
     h.addI64(request.first_row);
-    h.addI64(rows);
+    h.addI64(bandRows(request));
     h.addDouble(request.max_range_m);
     h.addU64(renderedViews(request, out));
     return h.value();
