@@ -16,6 +16,7 @@
 #include "run_panorama.hpp"
 #include "run_rover.hpp"
 #include "run_target.hpp"
+#include "run_traverse.hpp"
 #include "vtm/ground/exit_codes.hpp"
 #include "hal/event_log.hpp"
 #include "hal/posix/monotonic_clock.hpp"
@@ -46,16 +47,13 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Replaces the value of `key` (at a line start) in scenario text; false if absent.
-bool setValue(std::string& text, const std::string& key, const std::string& value) {
-    const std::size_t at = text.find("\n" + key + " ");
-    if (at == std::string::npos) return false;
-    const std::size_t end = text.find('\n', at + 1);
-    text.replace(at + 1, (end == std::string::npos ? text.size() : end) - at - 1, key + " " + value);
-    return true;
-}
-
 using World = ground::SimWorld;
+
+// A scenario of kind traverse (flown by flyTraverse, not by a HAL executive).
+bool isTraverse(const std::string& text) {
+    sim::Scenario probe;
+    return sim::parseScenario(text, probe).isOk() && probe.kind == sim::ScenarioKind::kTraverse;
+}
 
 // Reads the scenario named on the command line: a built-in name or a file.
 std::string scenarioText(const std::string& name, std::string& text, std::string& label) {
@@ -69,13 +67,20 @@ std::string scenarioText(const std::string& name, std::string& text, std::string
         label = "built-in rover pair (sim/scenarios/rover_wide_baseline.scn)";
         return "";
     }
+    if (name == "traverse") {
+        text = kDefaultTraverseScenario;
+        label = "built-in traverse (sim/scenarios/traverse.scn) and a descent over its terrain";
+        return "";
+    }
     if (name == "panorama") {
         text = kDefaultPanoramaScenario;
         label = "built-in panorama (sim/scenarios/panorama.scn at " + std::to_string(kPanoramaSidePx) + " px)";
         return "";
     }
     std::ifstream in(name, std::ios::binary);
-    if (!in) return name + ": cannot open (a scenario file, or one of the built-ins: rover, descent, panorama)";
+    if (!in) {
+        return name + ": cannot open (a scenario file, or one of the built-ins: rover, descent, panorama, traverse)";
+    }
     std::stringstream s;
     s << in.rdbuf();
     text = s.str();
@@ -86,18 +91,10 @@ std::string scenarioText(const std::string& name, std::string& text, std::string
 std::string buildWorld(const RunOptions& o, std::string text, const std::string& label, World& w) {
     if (o.size_px > 0) {
         if (o.size_px < 64 || o.size_px > 2048) return "--size " + std::to_string(o.size_px) + ": must be 64..2048";
-        if (!setValue(text, "width_px", std::to_string(o.size_px)) ||
-            !setValue(text, "height_px", std::to_string(o.size_px))) {
+        if (!ground::setScenarioValue(text, "width_px", std::to_string(o.size_px)) ||
+            !ground::setScenarioValue(text, "height_px", std::to_string(o.size_px))) {
             return label + ": no camera width_px / height_px to override with --size";
         }
-    }
-    sim::Scenario probe;
-    const Status st = sim::parseScenario(text, probe);
-    if (!st.isOk()) return label + ": line " + std::to_string(st.detail()) + ": " + st.reason();
-    if (probe.kind != sim::ScenarioKind::kDescent && probe.kind != sim::ScenarioKind::kRoverPair &&
-        probe.kind != sim::ScenarioKind::kPanorama) {
-        return label + ": vtm run flies rover_pair, descent and panorama scenarios (this one is none of them: a "
-                       "traverse has no executive yet)";
     }
     std::fprintf(stderr, "vtm run: building the world of %s\n", label.c_str());
     const std::string built = ground::buildSimWorld(text, w);
@@ -430,8 +427,8 @@ std::string flyDescent(const World& world, hal::Camera& camera, hal::Odometry& o
 CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
     CLI::App* cmd = app.add_subcommand("run", "fly a simulated mission in process and write products and a report");
     cmd->add_option("SCENARIO", o.scenario,
-                    "scenario file, or a built-in: rover, descent, panorama (default: all three built-ins, the rover "
-                    "pair first)");
+                    "scenario file, or a built-in: rover, descent, panorama, traverse (default: all four built-ins, "
+                    "the rover pair first)");
     cmd->add_option("--out", o.out_dir, "output folder (default vtm-run)");
     cmd->add_option("--size", o.size_px, "override the camera's width and height, px (64..2048; quick runs)");
     cmd->add_flag("--link", o.link,
@@ -462,7 +459,7 @@ int runMission(const RunOptions& o) {
     if (ec) return fail(o.out_dir + ": cannot create: " + ec.message());
     std::vector<std::string> names;
     if (o.scenario.empty()) {
-        names = {"rover", "descent", "panorama"};
+        names = {"rover", "descent", "panorama", "traverse"};
     } else {
         names = {o.scenario};
     }
@@ -478,8 +475,23 @@ int runMission(const RunOptions& o) {
         std::string e = scenarioText(name, text, label);
         auto world = std::make_unique<World>();
         if (e.empty() && name == "panorama" && o.size_px <= 0) {
-            setValue(text, "width_px", std::to_string(kPanoramaSidePx));  // the built-in's size (panorama.scn: 1024)
-            setValue(text, "height_px", std::to_string(kPanoramaSidePx));
+            ground::setScenarioValue(text, "width_px", std::to_string(kPanoramaSidePx));  // the built-in's size (panorama.scn: 1024)
+            ground::setScenarioValue(text, "height_px", std::to_string(kPanoramaSidePx));
+        }
+        if (e.empty() && isTraverse(text)) {
+            // The stops' maps and the descent map are built and fused in process (no
+            // camera or odometry driver: run_traverse.hpp), also with --link.
+            int models = 0;
+            int refused = 0;
+            std::string section;
+            e = flyTraverse(text, o.size_px > 0 ? o.size_px : kTraverseSidePx, o.out_dir, section, models, refused);
+            if (!e.empty()) return fail(label + ": " + e);
+            if (o.link) section += "The traverse is flown in process also with --link.\n\n";
+            labels += (labels.empty() ? "" : " + ") + label;
+            requests += models;  // each model added to the map is a request of the integrator
+            failures += refused;
+            sections += section;
+            continue;
         }
         if (e.empty()) e = buildWorld(o, text, label, *world);
         if (!e.empty()) return fail(e);

@@ -4,6 +4,14 @@
 
 namespace vtm::ground {
 
+bool setScenarioValue(std::string& text, const std::string& key, const std::string& value) {
+    const std::size_t at = text.find("\n" + key + " ");
+    if (at == std::string::npos) return false;
+    const std::size_t end = text.find('\n', at + 1);
+    text.replace(at + 1, (end == std::string::npos ? text.size() : end) - at - 1, key + " " + value);
+    return true;
+}
+
 std::string buildSimWorld(const std::string& text, SimWorld& w) {
     w.text = text;
     const Status parsed = sim::parseScenario(w.text, w.scenario);

@@ -28,4 +28,8 @@ struct SimWorld {
 // frames' reason; callers put the file or label in front.
 std::string buildSimWorld(const std::string& text, SimWorld& world);
 
+// Replaces the value of the first `key` at a line start in scenario text (the rest of the
+// text kept); false, text unchanged, when there is none.
+bool setScenarioValue(std::string& text, const std::string& key, const std::string& value);
+
 }  // namespace vtm::ground

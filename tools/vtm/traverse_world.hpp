@@ -1,8 +1,9 @@
-// The world of the traverse-and-descent evaluation (docs/integrator.md "The traverse and
-// the descent, fused"): one terrain (sim/scenarios/traverse.scn's), the traverse's 8 stops
-// with the rover's fixed stereo pair rendered at each stop's TRUE pose and mapped by
-// MlStereo + triangulation in the stop's vehicle frame, and a descent pair over the same
-// terrain mapped by DescentMapper (true poses) into its elevation map. Host only.
+// The world of the traverse-and-descent fusion (docs/integrator.md "The traverse and the
+// descent, fused"; flown by `vtm run`, measured by tests/integrate): one terrain (a
+// traverse scenario's, e.g. sim/scenarios/traverse.scn), the traverse's stops with the
+// rover's fixed stereo pair rendered at each stop's TRUE pose and mapped by MlStereo +
+// triangulation in the stop's vehicle frame, and a descent pair over the same terrain
+// mapped by DescentMapper (true poses) into its elevation map. Ground side (heap).
 #pragma once
 
 #include <memory>
@@ -10,12 +11,10 @@
 #include <vector>
 
 #include "sim/scenario.hpp"
-#include "sim/terrain.hpp"
-#include "vtm/core/arena.hpp"
 #include "vtm/core/pose.hpp"
-#include "vtm/terrain/height_map.hpp"
+#include "vtm/ground/sim_world.hpp"
 
-namespace vtm::integrate_eval {
+namespace vtm::traverse {
 
 struct Sizes {
     std::int32_t stereo_px = 512;    // the rover pair's side
@@ -45,12 +44,8 @@ struct DescentMap {
 
 struct World {
     Sizes sizes;
-    sim::Scenario traverse;
+    ground::SimWorld traverse;  // its scenario, the terrain, the stops' frames
     sim::Scenario descent;
-    std::vector<std::byte> storage;
-    std::unique_ptr<Arena> arena;
-    sim::Terrain terrain;
-    std::unique_ptr<sim::ScenarioFrames> stop_frames = std::make_unique<sim::ScenarioFrames>();
     std::unique_ptr<sim::ScenarioFrames> nadir_frames = std::make_unique<sim::ScenarioFrames>();
     std::vector<StopMap> stops;
     DescentMap descent_map;
@@ -58,11 +53,12 @@ struct World {
     std::string error;  // empty when everything was built
 };
 
-// Builds everything (terrain, frames, the 8 stop maps, the descent map). `scenario_dir`
-// holds traverse.scn.
-std::unique_ptr<World> buildWorld(const std::string& scenario_dir, const Sizes& sizes);
+// Builds everything (terrain, frames, the stop maps, the descent map) from a traverse
+// scenario's text (its terrain's samples_log2 set to sizes.samples_log2). World::error
+// says what failed, in one line.
+std::unique_ptr<World> buildWorld(const std::string& traverse_text, const Sizes& sizes);
 
 // site_from_vehicle of a simulator pose.
 RigidPose toRigidPose(const sim::VehiclePose& v);
 
-}  // namespace vtm::integrate_eval
+}  // namespace vtm::traverse

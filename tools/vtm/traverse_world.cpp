@@ -1,28 +1,25 @@
-// Builds the world of the traverse-and-descent evaluation (traverse_world.hpp).
+// Builds the world of the traverse-and-descent fusion (traverse_world.hpp).
 #include "traverse_world.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "hal/clock.hpp"
 #include "hal/event_log.hpp"
 #include "hal/sim/sim_camera.hpp"
 #include "hal/sim/sim_odometry.hpp"
-#include "scenario_text.hpp"
 #include "sim/render.hpp"
 #include "vtm/app/descent_mapper.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 #include "vtm/stereo/speckle_filter.hpp"
 #include "vtm/terrain/triangulation.hpp"
 
-namespace vtm::integrate_eval {
+namespace vtm::traverse {
 namespace {
 
-using test::setScenarioValue;
+using ground::setScenarioValue;
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -64,7 +61,7 @@ Status mapStop(const World& w, const sim::ScenarioFrame& mast, StopMap& out) {
         sim::ScenarioFrame f = mast;
         f.model = model;
         f.camera_pose = side == 0 ? site_from_left : site_from_right;
-        sim::FrameRequest req = sim::scenarioFrameRequest(w.traverse, w.terrain, f);
+        sim::FrameRequest req = sim::scenarioFrameRequest(w.traverse.scenario, w.traverse.terrain, f);
         req.frame_index = 1000U + 2U * mast.index + static_cast<std::uint32_t>(side);
         sim::FrameOutput o;
         o.image8 = ImageView<std::uint8_t>(side == 0 ? left.data() : right.data(), n, n);
@@ -121,7 +118,7 @@ Status mapStop(const World& w, const sim::ScenarioFrame& mast, StopMap& out) {
     std::vector<double> err;
     for (const Vec3& p : out.points) {
         const Vec3 q = out.truth.R * p + out.truth.t_m;
-        err.push_back(std::fabs(-q.z() - w.terrain.elevationAt(q.x(), q.y())));
+        err.push_back(std::fabs(-q.z() - w.traverse.terrain.elevationAt(q.x(), q.y())));
     }
     if (!err.empty()) {
         std::nth_element(err.begin(), err.begin() + static_cast<std::ptrdiff_t>(err.size() / 2), err.end());
@@ -138,7 +135,7 @@ Status mapDescent(World& w) {
     hal::SimCamera camera;
     hal::SimCamera::Config cc;
     cc.scenario = &w.descent;
-    cc.terrain = &w.terrain;
+    cc.terrain = &w.traverse.terrain;
     cc.frames = w.nadir_frames.get();
     cc.faults = &plan;
     VTM_RETURN_IF_ERROR(camera.init(cc));
@@ -166,7 +163,7 @@ Status mapDescent(World& w) {
     const terrain::HeightMap& map = *p->height_map;
     DescentMap& d = w.descent_map;
     d.cell_m = map.grid().cell_m;
-    d.camera1_height_m = -p->geometry.site_from_cam1.t_m.z() - w.terrain.elevationAt(p->geometry.site_from_cam1.t_m.x(),
+    d.camera1_height_m = -p->geometry.site_from_cam1.t_m.z() - w.traverse.terrain.elevationAt(p->geometry.site_from_cam1.t_m.x(),
                                                                                        p->geometry.site_from_cam1.t_m.y());
     double sum = 0.0;
     for (std::int32_t row = 0; row < map.grid().rows; ++row) {
@@ -175,7 +172,7 @@ Status mapDescent(World& w) {
             if (terrain::isNoData(e)) continue;
             const double north = map.centreNorthM(row), east = map.centreEastM(col);
             d.points.emplace_back(north, east, -static_cast<double>(e));
-            const double err = e - w.terrain.elevationAt(north, east);
+            const double err = e - w.traverse.terrain.elevationAt(north, east);
             sum += err * err;
         }
     }
@@ -192,32 +189,32 @@ RigidPose toRigidPose(const sim::VehiclePose& v) {
     return p;
 }
 
-std::unique_ptr<World> buildWorld(const std::string& scenario_dir, const Sizes& sizes) {
+std::unique_ptr<World> buildWorld(const std::string& traverse_text, const Sizes& sizes) {
     auto w = std::make_unique<World>();
     w->sizes = sizes;
-    std::ifstream in(scenario_dir + "/traverse.scn", std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    std::string text = s.str();
+    std::string text = traverse_text;
     if (!setScenarioValue(text, "samples_log2", std::to_string(sizes.samples_log2))) {
-        w->error = "traverse.scn: no samples_log2";
+        w->error = "the traverse scenario has no samples_log2";
         return w;
     }
     auto t0 = std::chrono::steady_clock::now();
-    Status st = sim::parseScenario(text, w->traverse);
-    if (st.isOk()) st = sim::parseScenario(descentText(text, sizes.descent_px), w->descent);
-    if (st.isOk()) {
-        w->storage.resize(sim::scenarioTerrainBytes(w->traverse) + 64U);
-        w->arena = std::make_unique<Arena>(w->storage.data(), w->storage.size());
-        st = sim::buildScenarioTerrain(w->traverse, *w->arena, w->terrain);
+    const std::string built = ground::buildSimWorld(text, w->traverse);
+    if (!built.empty()) {
+        w->error = built;
+        return w;
     }
-    if (st.isOk()) st = sim::buildScenarioFrames(w->traverse, w->terrain, *w->stop_frames);
-    if (st.isOk()) st = sim::buildScenarioFrames(w->descent, w->terrain, *w->nadir_frames);
+    if (w->traverse.scenario.kind != sim::ScenarioKind::kTraverse) {
+        w->error = "not a traverse scenario (kind traverse)";
+        return w;
+    }
+    Status st = sim::parseScenario(descentText(text, sizes.descent_px), w->descent);
+    if (st.isOk()) st = sim::buildScenarioFrames(w->descent, w->traverse.terrain, *w->nadir_frames);
     w->build_s = secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
-    for (std::int32_t k = 0; st.isOk() && k < w->stop_frames->count; ++k) {
+    const sim::ScenarioFrames& stops = *w->traverse.frames;
+    for (std::int32_t k = 0; st.isOk() && k < stops.count; ++k) {
         w->stops.emplace_back();
-        st = mapStop(*w, w->stop_frames->frames[k], w->stops.back());
+        st = mapStop(*w, stops.frames[k], w->stops.back());
     }
     w->stereo_s = secondsSince(t0);
     t0 = std::chrono::steady_clock::now();
@@ -229,4 +226,4 @@ std::unique_ptr<World> buildWorld(const std::string& scenario_dir, const Sizes& 
     return w;
 }
 
-}  // namespace vtm::integrate_eval
+}  // namespace vtm::traverse

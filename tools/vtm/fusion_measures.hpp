@@ -1,18 +1,20 @@
-// Measures of the traverse-and-descent evaluation against the truth: registered poses,
-// fused height maps by distance band and source, the seam between sources, the OpenCV
-// peer, pictures. Host only (traverse_fusion_evaluation.cpp).
+// Measures of the traverse-and-descent fusion against the truth: registered poses, fused
+// height maps by distance band and source, the seam between sources, pictures. Ground side
+// (`vtm run`'s report, tests/integrate's evaluation, which adds the OpenCV peer).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "sim/terrain.hpp"
 #include "traverse_world.hpp"
 #include "vtm/app/terrain_integrator.hpp"
+#include "vtm/ground/image.hpp"
 #include "vtm/octree/height_products.hpp"
 
-namespace vtm::integrate_eval {
+namespace vtm::traverse {
 
 constexpr double kRotationTarget_deg = 0.05;       // issue 25 item 4
 constexpr double kTranslationTarget_percent = 1.0;  // of the stop-to-stop distance
@@ -50,8 +52,9 @@ struct PoseError {
 PoseError poseError(const Truth& truth, std::size_t k, const RigidPose& map_from_model);
 std::vector<PoseError> poseErrors(const Truth& truth, const std::vector<app::AddResult>& results);
 
-void printStopTable(const Truth& truth, const std::vector<app::AddResult>& reg,
-                    const std::vector<app::AddResult>& nav, const std::vector<double>& seconds);
+// Markdown table, a row per model: the navigation's and the registered pose's errors.
+std::string stopTable(const Truth& truth, const std::vector<app::AddResult>& reg,
+                      const std::vector<app::AddResult>& nav, const std::vector<double>& seconds);
 
 struct Rms {
     double rms_m = 0.0;
@@ -77,15 +80,17 @@ struct HeightReport {
     Seam seam;
 };
 HeightReport heightReport(const Truth& truth, const octree::HeightProducts& products);
-void printHeightTables(const std::vector<const char*>& names, const std::vector<HeightReport>& reports);
+// Markdown: RMS per product, band and source for each run, then the seam.
+std::string heightTables(const std::vector<const char*>& names, const std::vector<HeightReport>& reports);
 
-// OpenCV's cv::ppf_match_3d::ICP and fsw/icp's PointToPlaneIcp on the same clouds from the
-// same guess: stop k (odometry guess) against stop k-1 at its true pose; the descent map
-// (identity guess) against all stops at their true poses. Prints the table and who wins
-// where; a skip line without the contrib module.
-void comparePeer(const Truth& truth, const icp::IcpConfig& config, const std::vector<app::AddResult>& integrated);
+// PNGs of the finest product, DIR/traverse_fused_0.25m.png (shaded relief) and
+// DIR/traverse_fused_error_0.25m.png (its error against the terrain: grey 128 = 0,
+// +-0.25 m to white / black), each cell `enlarge` x `enlarge` pixels; "" or the first
+// write's error.
+std::string writePictures(const Truth& truth, const octree::HeightProducts& products, const std::string& dir,
+                          std::int32_t enlarge);
 
-// PNGs of the finest product (shaded relief) and its error against the terrain.
-void writePictures(const Truth& truth, const octree::HeightProducts& products, const std::string& dir);
+// Nearest-neighbour enlargement by f (f x f pixels per cell), for display.
+ground::GreyImage enlarged(const ground::GreyImage& in, std::int32_t f);
 
-}  // namespace vtm::integrate_eval
+}  // namespace vtm::traverse
