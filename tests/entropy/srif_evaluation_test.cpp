@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "entropy_scene.hpp"
+#include "test_data.hpp"
 #include "vtm/core/image_pyramid.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/entropy/registration.hpp"
@@ -39,10 +40,7 @@ constexpr double kCorrectPx = 3.0;
 constexpr std::int32_t kMapCrop = 224;
 constexpr std::int32_t kLevels = 3;
 
-std::string dataRoot() {
-    const char* env = std::getenv("VTM_DATA");
-    return std::string(env != nullptr ? env : VTM_TEST_DATA_DIR) + "/srif";
-}
+std::string dataRoot() { return vtm::test::testDataSet("srif"); }
 
 bool fullRun() {
     const char* env = std::getenv("VTM_SRIF_FULL");
@@ -282,7 +280,7 @@ bool readTruth(const std::string& path, Mat23& g) {
 }
 
 bool loadOpticalInfrared(std::int32_t n, Pair& p) {
-    const std::string dir = dataRoot() + "/optical-infrared/";
+    const std::string dir = dataRoot() + "optical-infrared/";
     const auto a = ground::loadGrey8(dir + "pair" + std::to_string(n) + "_1.jpg");
     const auto b = ground::loadGrey8(dir + "pair" + std::to_string(n) + "_2.jpg");
     if (!a.ok || !b.ok || !readTruth(dir + "gt_" + std::to_string(n) + ".txt", p.truth)) return false;
@@ -304,7 +302,7 @@ bool loadOpticalInfrared(std::int32_t n, Pair& p) {
 }
 
 bool loadOpticalMap(std::int32_t n, Pair& p) {
-    const std::string dir = dataRoot() + "/optical-map/";
+    const std::string dir = dataRoot() + "optical-map/";
     const auto a = ground::loadGrey8(dir + "pair" + std::to_string(n) + "_1.jpg");
     const auto b = ground::loadGrey8(dir + "pair" + std::to_string(n) + "_2.jpg");
     if (!a.ok || !b.ok || a.value.width != 400 || b.value.width != 400) return false;
@@ -425,9 +423,7 @@ void report(const char* set, const Methods& m) {
 class SrifEvaluation : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (!std::ifstream(dataRoot() + "/README.md")) {
-            GTEST_SKIP() << "SRIF data not found under " << dataRoot() << " (set VTM_DATA)";
-        }
+        VTM_REQUIRE_TEST_DATA(dataRoot() + "README.md");
         const RegistrationConfig ce = moduleConfig(Representation::kEntropy);
         const RegistrationConfig ci = moduleConfig(Representation::kIntensity);
         poolE_.resize(EntropyRegistration::workspaceBytes(ce));

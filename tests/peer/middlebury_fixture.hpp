@@ -7,17 +7,18 @@
 
 #include <gtest/gtest.h>
 
+#include "test_data.hpp"
 #include "vtm/ground/disparity_evaluation.hpp"
 #include "vtm/ground/middlebury.hpp"
 #include "vtm/peer/peer_stereo.hpp"
 
 namespace vtm::peer::fixture {
 
-// $VTM_DATA if set, else the shared data folder beside the repository.
-inline std::string dataDir() {
-    const std::string env = ground::dataDirFromEnvironment();
-    return env.empty() ? std::string(VTM_MIDDLEBURY_DEFAULT_DIR) : env;
-}
+// The shared data root (tests/support/test_data.hpp); loadMiddleburyPair finds middlebury/SET in it.
+inline std::string dataDir() { return vtm::test::testDataRoot(); }
+
+// Skips the test (fails under VTM_REQUIRE_DATA=1) when the set is not there.
+#define VTM_REQUIRE_MIDDLEBURY(set) VTM_REQUIRE_TEST_DATA(vtm::test::testDataSet("middlebury") + (set))
 
 // Largest known ground-truth disparity of the pair, pixels (numDisparities follows it).
 inline double maxKnownDisparity(const ground::MiddleburyPair& pair) {

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "real_pair_support.hpp"
+#include "test_data.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/ground/disparity_colormap.hpp"
@@ -38,7 +39,7 @@ using test::RowStats;
 using test::siftMatches;
 using test::Workspace;
 
-const std::string kDir = std::string(VTM_SHARED_DATA_DIR) + "/msl_navcam/";
+const std::string kDir = vtm::test::testDataSet("msl_navcam");
 const std::string kLeft = kDir + "NLB_524534514EDR_F0562034NCAM00280M_.jpeg";
 const std::string kRight = kDir + "NRB_524534514EDR_F0562034NCAM00280M_.jpeg";
 constexpr double kBaselineM = 0.42;  // README: the nominal Navcam stereo baseline
@@ -57,6 +58,7 @@ CameraPair nominalPair() {
 class MslNavcam : public ::testing::Test {
 protected:
     void SetUp() override {
+        VTM_REQUIRE_TEST_DATA(kLeft);
         left_ = cv::imread(kLeft, cv::IMREAD_GRAYSCALE);
         right_ = cv::imread(kRight, cv::IMREAD_GRAYSCALE);
         ASSERT_FALSE(left_.empty()) << kLeft;

@@ -54,6 +54,7 @@ class PeerAccuracy : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(PeerAccuracy, ReproducesReadmeTable) {
     const std::string set = GetParam();
+    VTM_REQUIRE_MIDDLEBURY(set);
     const auto loaded = vtm::ground::loadMiddleburyPair(vtm::peer::fixture::dataDir(), set);
     ASSERT_TRUE(loaded.ok) << loaded.error;
     const vtm::ground::MiddleburyPair& pair = loaded.value;

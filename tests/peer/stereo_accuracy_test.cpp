@@ -56,6 +56,7 @@ TEST(StereoAccuracy, MlStereoAgainstPeersOnMiddlebury) {
     int atOrBelowSgbm = 0;
     std::printf("\n| set | VTM | StereoBM | SGBM_3WAY | ZNCC 7x7 | VTM invalid %% |\n|---|---|---|---|---|---|\n");
     for (const std::string set : {"tsukuba", "venus", "teddy"}) {
+        VTM_REQUIRE_MIDDLEBURY(set);
         const auto loaded = vtm::ground::loadMiddleburyPair(dataDir(), set);
         ASSERT_TRUE(loaded.ok) << loaded.error;
         const auto& pair = loaded.value;
@@ -78,6 +79,7 @@ TEST(StereoAccuracy, MlStereoAgainstPeersOnMiddlebury) {
 
 TEST(StereoAccuracy, ConservativePresetIsMoreOftenRightWhenItAnswers) {
     for (const std::string set : {"tsukuba", "venus", "teddy"}) {
+        VTM_REQUIRE_MIDDLEBURY(set);
         const auto loaded = vtm::ground::loadMiddleburyPair(dataDir(), set);
         ASSERT_TRUE(loaded.ok) << loaded.error;
         const int nd = vtm::peer::numDisparitiesFor(vtm::peer::fixture::maxKnownDisparity(loaded.value));
@@ -113,6 +115,7 @@ TEST(StereoAccuracy, AblationTable) {
     };
     std::vector<vtm::ground::MiddleburyPair> pairs;
     for (const std::string set : {"tsukuba", "venus", "teddy"}) {
+        VTM_REQUIRE_MIDDLEBURY(set);
         auto loaded = vtm::ground::loadMiddleburyPair(dataDir(), set);
         ASSERT_TRUE(loaded.ok) << loaded.error;
         pairs.push_back(std::move(loaded.value));

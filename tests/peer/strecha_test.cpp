@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "real_pair_support.hpp"
+#include "test_data.hpp"
 #include "vtm/core/camera_model.hpp"
 #include "vtm/core/pose.hpp"
 #include "vtm/ground/disparity_colormap.hpp"
@@ -45,7 +46,7 @@ using test::siftMatches;
 using test::Workspace;
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
-const std::string kRoot = std::string(VTM_SHARED_DATA_DIR) + "/strecha/";
+const std::string kRoot = vtm::test::testDataSet("strecha");
 
 struct View {
     cv::Mat image;
@@ -212,6 +213,7 @@ constexpr Set kSets[] = {{"herz-jesus-p8", 8, false}, {"entry-p10", 10, false}};
 bool full() { return std::getenv("VTM_STRECHA_FULL") != nullptr; }
 
 TEST(StrechaPairs, RefinedFromASpoiledPriorBesideOpenCvEssentialMatrix) {
+    VTM_REQUIRE_TEST_DATA(kRoot);
     std::vector<PairRun> runs;
     for (std::size_t si = 0; si < sizeof kSets / sizeof kSets[0]; ++si) {
         const Set& s = kSets[si];

@@ -3,6 +3,8 @@
 // shared Middlebury data.
 #pragma once
 
+#include "test_data.hpp"
+
 #include <gtest/gtest.h>
 
 #include <stdlib.h>    // mkdtemp
@@ -17,6 +19,10 @@
 #include <vector>
 
 namespace vtm::ground::test {
+
+// The shared real data (tests/support/test_data.hpp), under the names this folder uses.
+using vtm::test::testDataRoot;
+using vtm::test::testDataSet;
 
 // mkdtemp: parallel ctest runs share /tmp. Removed with its contents afterwards.
 class TempDir {
@@ -70,20 +76,6 @@ inline Bytes ppmBytes(int width, int height, const std::vector<std::uint8_t>& rg
     Bytes b = textBytes("P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n");
     b.insert(b.end(), rgb.begin(), rgb.end());
     return b;
-}
-
-// The shared data root (holding middlebury/): $VTM_DATA, else the build's default
-// (VTM_TEST_DATA_DIR, ../shared/data next to the repository).
-inline std::string testDataDir() {
-    const char* env = std::getenv("VTM_DATA");
-    if (env != nullptr && env[0] != '\0') {
-        return env;
-    }
-#ifdef VTM_TEST_DATA_DIR
-    return VTM_TEST_DATA_DIR;
-#else
-    return "";
-#endif
 }
 
 // The whole of a file's bytes ("" when it cannot be read).

@@ -34,8 +34,7 @@ class Middlebury : public ::testing::Test {
 protected:
     // Loads a set or skips the test when the shared data is not there.
     MiddleburyPair load(const char* name) {
-        const std::string root = test::testDataDir();
-        const Result<MiddleburyPair> p = loadMiddleburyPair(root, name);
+        const Result<MiddleburyPair> p = loadMiddleburyPair(test::testDataRoot(), name);
         if (!p.ok) {
             skipped_ = true;
             return {};
@@ -45,11 +44,11 @@ protected:
     bool skipped_ = false;
 };
 
-#define LOAD_OR_SKIP(var, name)                                                        \
-    const MiddleburyPair var = load(name);                                            \
-    if (skipped_) {                                                                   \
-        GTEST_SKIP() << "Middlebury data not found under '" << test::testDataDir() \
-                     << "' (set VTM_DATA)";                                           \
+#define LOAD_OR_SKIP(var, name)                                                   \
+    const MiddleburyPair var = load(name);                                       \
+    if (skipped_) {                                                              \
+        VTM_REQUIRE_TEST_DATA(test::testDataSet("middlebury") + name);           \
+        FAIL() << "Middlebury set " << name << " is there but does not load";   \
     }
 
 TEST_F(Middlebury, GroundTruthRangesMatchTheReadme) {

@@ -28,13 +28,9 @@ const char* const kNavcam[5] = {"1N491020376ILFCNY9P0706L0M1.IMG", "1N491020519I
 const char* const kPancam = "1P491287702ILFCNY9P2584L2M1.IMG";
 const char* const kHazcam = "1F490747543EFFCNY9P1214L0M1.IMG";
 
-std::string dataDir() { return test::testDataDir() + "/mer_opportunity/"; }
-bool haveData() { return !test::slurp(dataDir() + kNavcam[0]).empty(); }
+std::string dataDir() { return test::testDataSet("mer_opportunity"); }
 
-#define SKIP_WITHOUT_DATA()                                                                         \
-    if (!haveData()) {                                                                              \
-        GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";            \
-    }
+#define SKIP_WITHOUT_DATA() VTM_REQUIRE_TEST_DATA(dataDir() + kNavcam[0])
 
 PdsImage load(const std::string& file) {
     const Result<PdsImage> r = readPdsImage(dataDir() + file);

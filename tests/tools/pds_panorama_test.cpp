@@ -22,7 +22,7 @@ const char* const kNavcam[5] = {"1N491020376ILFCNY9P0706L0M1.IMG", "1N491020519I
                                 "1N491020834ILFCNY9P0706L0M1.IMG", "1N491020993ILFCNY9P0706L0M1.IMG",
                                 "1N491021154ILFCNY9P0706L0M1.IMG"};
 
-std::string dataDir() { return test::testDataDir() + "/mer_opportunity/"; }
+std::string dataDir() { return test::testDataSet("mer_opportunity"); }
 
 std::vector<PdsImage> loadNavcam() {
     std::vector<PdsImage> frames;
@@ -47,7 +47,10 @@ double quantile(std::vector<double> v, double q) {
 // look back over the rover's deck, about 1 m from the mast.
 TEST(PdsPanorama, TiePointsInTheNavcamOverlapsAndTheirResiduals) {
     const std::vector<PdsImage> frames = loadNavcam();
-    if (frames.empty()) GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";
+    if (frames.empty()) {
+        VTM_REQUIRE_TEST_DATA(dataDir());
+        FAIL() << "no MER frame loaded from " << dataDir();
+    }
     const PdsTieConfig config;
     const int pairs[3][2] = {{0, 1}, {2, 3}, {3, 4}};
     std::vector<double> all_epipolar;
@@ -105,7 +108,10 @@ double shiftedNcc(const GreyImage& one, const GreyImage& two, int dx, int dy, in
 // written as PNG (0.2 deg per pixel) when VTM_PDS_MOSAIC names a path.
 TEST(PdsPanorama, CylinderMosaicOfTheFiveFrames) {
     const std::vector<PdsImage> frames = loadNavcam();
-    if (frames.empty()) GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";
+    if (frames.empty()) {
+        VTM_REQUIRE_TEST_DATA(dataDir());
+        FAIL() << "no MER frame loaded from " << dataDir();
+    }
     const GreyImage mosaic = pdsCylinderMosaic(frames, PdsMosaicConfig{});
     ASSERT_EQ(mosaic.width, 2400);
     ASSERT_EQ(mosaic.height, 570);

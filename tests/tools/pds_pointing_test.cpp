@@ -30,7 +30,7 @@ const char* const kNavcam[5] = {"1N491020376ILFCNY9P0706L0M1.IMG", "1N491020519I
                                 "1N491020834ILFCNY9P0706L0M1.IMG", "1N491020993ILFCNY9P0706L0M1.IMG",
                                 "1N491021154ILFCNY9P0706L0M1.IMG"};
 
-std::string dataDir() { return test::testDataDir() + "/mer_opportunity/"; }
+std::string dataDir() { return test::testDataSet("mer_opportunity"); }
 
 struct Panorama {
     std::vector<PdsImage> frames;
@@ -183,7 +183,10 @@ void printCorrections(const char* what, const std::vector<Vec3>& c) {
 
 TEST(PdsPointing, AdjustmentClosesHeldOutTiesAgainstTheLabelsAndOpenCv) {
     const Panorama& pano = panorama();
-    if (pano.frames.empty()) GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";
+    if (pano.frames.empty()) {
+        VTM_REQUIRE_TEST_DATA(dataDir());
+        FAIL() << "no MER frame loaded from " << dataDir();
+    }
     const std::size_t n = pano.frames.size();
     const Result<PdsPointingResult> all = adjustPdsPointing(pano.frames, pano.pairs, PdsPointingConfig{});
     ASSERT_TRUE(all.ok) << all.error;
@@ -402,7 +405,10 @@ std::size_t covered(const GreyImage& g) {
 // residuals x 50 before, red, and after, green; half scale).
 TEST(PdsPointing, MosaicAndResidualPicturesAfterAdjustment) {
     const Panorama& pano = panorama();
-    if (pano.frames.empty()) GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";
+    if (pano.frames.empty()) {
+        VTM_REQUIRE_TEST_DATA(dataDir());
+        FAIL() << "no MER frame loaded from " << dataDir();
+    }
     const Result<PdsPointingResult> all = adjustPdsPointing(pano.frames, pano.pairs, PdsPointingConfig{});
     ASSERT_TRUE(all.ok) << all.error;
     const std::vector<PdsImage> after = turned(pano.frames, Pointing{all.value.correction_rad, all.value.shift_m});
@@ -451,7 +457,10 @@ double relativeErrorDeg(const std::vector<PdsImage>& frames, const std::vector<P
 // from centres 7-9 cm apart, loses most far ties (reported, not gated; docs/pds.md).
 TEST(PdsPointing, KnownTurnNearAndFarModuleAndOpenCv) {
     const Panorama& pano = panorama();
-    if (pano.frames.empty()) GTEST_SKIP() << "MER data not found under '" << dataDir() << "' (set VTM_DATA)";
+    if (pano.frames.empty()) {
+        VTM_REQUIRE_TEST_DATA(dataDir());
+        FAIL() << "no MER frame loaded from " << dataDir();
+    }
     const double d = 1.0 / kDegPerRad;
     const std::vector<Vec3> truth{Vec3(0.1, -0.2, 0.15) * d, Vec3(-0.15, 0.1, -0.2) * d, Vec3(0.2, 0.1, 0.3) * d,
                                   Vec3(-0.1, -0.25, 0.1) * d, Vec3(0.05, 0.2, -0.25) * d};

@@ -247,11 +247,10 @@ TEST(VtmCli, EvalRefusesBadInputs) {
 
 // The ground truth itself, written as a PFM, scores zero bad pixels on its own mask.
 TEST(VtmCli, EvalMiddleburyGroundTruthAgainstItself) {
-    const std::string data = test::testDataDir();
+    const std::string data = test::testDataRoot();
+    VTM_REQUIRE_TEST_DATA(test::testDataSet("middlebury") + "teddy");
     const Result<MiddleburyGroundTruth> truth = loadMiddleburyGroundTruth(data, "teddy");
-    if (!truth.ok) {
-        GTEST_SKIP() << truth.error;
-    }
+    ASSERT_TRUE(truth.ok) << truth.error;
     test::TempDir dir;
     ASSERT_TRUE(writePfm(dir.file("gt.pfm"), truth.value.disparity_px).ok);
     const CommandRun r = vtm(dir, "eval " + dir.file("gt.pfm") + " --middlebury teddy --data '" + data + "'");
@@ -287,10 +286,8 @@ std::vector<double> matrixRows(const std::string& text, const std::string& tag) 
 }
 
 TEST(VtmCli, RegisterFindsTheKnownTransformOfRealOpticalInfraredPairs) {
-    const std::string dir_srif = test::testDataDir() + "/srif/optical-infrared/";
-    if (!loadGrey8(dir_srif + "pair1_1.jpg").ok) {
-        GTEST_SKIP() << "no SRIF data under " << dir_srif;
-    }
+    const std::string dir_srif = test::testDataSet("srif") + "optical-infrared/";
+    VTM_REQUIRE_TEST_DATA(dir_srif + "pair1_1.jpg");
     for (const int n : {1, 3}) {
         test::TempDir dir;
         const std::string pair = dir_srif + "pair" + std::to_string(n);
