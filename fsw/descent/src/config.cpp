@@ -75,9 +75,9 @@ std::size_t PlaneSweep::workspaceBytes(const Config& config) noexcept {
            + Arena::arrayBytes<std::uint16_t>(s.image)                              // prefiltered image 2
            + Arena::arrayBytes<std::int32_t>(s.width)                               // prefilter row
            + Arena::arrayBytes<std::uint16_t>(s.warped) + Arena::arrayBytes<std::uint8_t>(s.warped)  // warped band, inside flags
-           + Arena::arrayBytes<std::int32_t>(s.width) + 2U * Arena::arrayBytes<std::int64_t>(s.width)  // column sums A, B, C
+           + 3U * Arena::arrayBytes<double>(s.width)                                // column sums A, B, C
            + Arena::arrayBytes<std::int32_t>(s.width)                               // column inside counts
-           + Arena::arrayBytes<std::int32_t>(s.band) + Arena::arrayBytes<std::int64_t>(s.band)  // image-1 window sums (NCC)
+           + 2U * Arena::arrayBytes<double>(s.band)                                 // image-1 window sums (NCC)
            + 4U * Arena::arrayBytes<float>(s.band)                                  // best, previous, below, above cost
            + Arena::arrayBytes<std::int16_t>(s.band);                               // best plane
 }
@@ -92,12 +92,12 @@ Status PlaneSweep::init(const Config& config, Arena& arena) noexcept {
     filterRow_ = arena.allocateArray<std::int32_t>(s.width);
     warped_ = arena.allocateArray<std::uint16_t>(s.warped);
     inside_ = arena.allocateArray<std::uint8_t>(s.warped);
-    colA_ = arena.allocateArray<std::int32_t>(s.width);
-    colB_ = arena.allocateArray<std::int64_t>(s.width);
-    colC_ = arena.allocateArray<std::int64_t>(s.width);
+    colA_ = arena.allocateArray<double>(s.width);
+    colB_ = arena.allocateArray<double>(s.width);
+    colC_ = arena.allocateArray<double>(s.width);
     colIn_ = arena.allocateArray<std::int32_t>(s.width);
-    sumI_ = arena.allocateArray<std::int32_t>(s.band);
-    sumII_ = arena.allocateArray<std::int64_t>(s.band);
+    sumI_ = arena.allocateArray<double>(s.band);
+    sumII_ = arena.allocateArray<double>(s.band);
     bestCost_ = arena.allocateArray<float>(s.band);
     prevCost_ = arena.allocateArray<float>(s.band);
     belowCost_ = arena.allocateArray<float>(s.band);

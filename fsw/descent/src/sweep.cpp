@@ -16,32 +16,36 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr std::int32_t kSubpixelBits = 5;  // bilinear positions in 1/32 px (as OpenCV's INTER_BITS)
 constexpr std::int32_t kSubpixel = 1 << kSubpixelBits;
 
-// The running column sums of the window score (one entry per column).
+// The running column sums of the window score (one entry per column): exact integers in
+// doubles (plane_sweep.hpp, colA_).
 struct ColumnSums {
-    std::int32_t* a;   // NCC: sum of warped levels; SAD: sum of absolute differences
-    std::int64_t* b;   // NCC: sum of squared warped levels
-    std::int64_t* c;   // NCC: sum of products with image 1
+    double* a;         // NCC: sum of warped levels; SAD: sum of absolute differences
+    double* b;         // NCC: sum of squared warped levels
+    double* c;         // NCC: sum of products with image 1
     std::int32_t* in;  // pixels whose warped sample lies inside image 2
 };
 
-// Column-sum update with one row of image 1 (levels x 16) and its warped row.
+// Column-sum update with one row of image 1 (levels x 16) and its warped row. Every
+// product is below 2^32 and every sum below 2^52: exact in double.
 template <bool kNcc, std::int32_t kSign>
 void accumulateRow(const std::uint16_t* i1, const std::uint16_t* w2, const std::uint8_t* in, std::int32_t width,
                    const ColumnSums& sums) noexcept {
-    std::int32_t* const colA = sums.a;
-    std::int64_t* const colB = sums.b;
-    std::int64_t* const colC = sums.c;
+    double* const colA = sums.a;
+    double* const colB = sums.b;
+    double* const colC = sums.c;
     std::int32_t* const colIn = sums.in;
+    constexpr double kS = static_cast<double>(kSign);
     for (std::int32_t x = 0; x < width; ++x) {
         const std::int32_t i = static_cast<std::int32_t>(i1[x]) << 4;
         const std::int32_t w = static_cast<std::int32_t>(w2[x]);
         if constexpr (kNcc) {
-            colA[x] += kSign * w;
-            colB[x] += kSign * static_cast<std::int64_t>(w) * w;
-            colC[x] += kSign * static_cast<std::int64_t>(i) * w;
+            const double wd = static_cast<double>(w);
+            colA[x] += kS * wd;
+            colB[x] += kS * (wd * wd);
+            colC[x] += kS * (static_cast<double>(i) * wd);
         } else {
             const std::int32_t d = i - w;
-            colA[x] += kSign * (d < 0 ? -d : d);
+            colA[x] += kS * static_cast<double>(d < 0 ? -d : d);
         }
         colIn[x] += kSign * static_cast<std::int32_t>(in[x]);
     }
@@ -75,8 +79,11 @@ void PlaneSweep::warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows
                 in[x] = 0U;
                 continue;
             }
-            const auto ui = static_cast<std::int32_t>(std::floor(u * kSubpixel + 0.5));
-            const auto vi = static_cast<std::int32_t>(std::floor(v * kSubpixel + 0.5));
+            // floor(u * 32 + 0.5): u, v >= 0 here, so the sum is positive and truncation is
+            // the floor, the same integers as std::floor without its libm call on targets
+            // that have no rounding instruction (the 750). Not lround: halves go up here.
+            const auto ui = static_cast<std::int32_t>(u * kSubpixel + 0.5);  // NOLINT(bugprone-incorrect-roundings)
+            const auto vi = static_cast<std::int32_t>(v * kSubpixel + 0.5);  // NOLINT(bugprone-incorrect-roundings)
             std::int32_t ix = ui >> kSubpixelBits;
             std::int32_t fx = ui & (kSubpixel - 1);
             std::int32_t iy = vi >> kSubpixelBits;
@@ -106,9 +113,9 @@ void PlaneSweep::scorePlane(const ImageView<const std::uint16_t>& image1, std::i
     const std::int32_t w = width_;
     warpRows(k, y0 - r, y1 - y0 + 2 * r);
     for (std::int32_t x = 0; x < w; ++x) {
-        colA_[static_cast<std::size_t>(x)] = 0;
-        colB_[static_cast<std::size_t>(x)] = 0;
-        colC_[static_cast<std::size_t>(x)] = 0;
+        colA_[static_cast<std::size_t>(x)] = 0.0;
+        colB_[static_cast<std::size_t>(x)] = 0.0;
+        colC_[static_cast<std::size_t>(x)] = 0.0;
         colIn_[static_cast<std::size_t>(x)] = 0;
     }
     const bool ncc = config_.score == Score::kNcc;
@@ -140,9 +147,11 @@ void PlaneSweep::scorePlane(const ImageView<const std::uint16_t>& image1, std::i
 void PlaneSweep::scoreRow(std::int32_t k, std::int32_t bandRow) noexcept {
     const std::int32_t r = radius_;
     const std::int32_t w = width_;
-    const std::int64_t n = static_cast<std::int64_t>(config_.window) * config_.window;
+    const std::int32_t n = config_.window * config_.window;
+    const auto nd = static_cast<double>(n);
     const bool ncc = config_.score == Score::kNcc;
-    std::int64_t a = 0, b = 0, c = 0;
+    // Exact integers (plane_sweep.hpp, colA_): the same values as in int64.
+    double a = 0.0, b = 0.0, c = 0.0;
     std::int32_t in = 0;
     for (std::int32_t x = 0; x < 2 * r; ++x) {
         a += colA_[static_cast<std::size_t>(x)];
@@ -161,14 +170,12 @@ void PlaneSweep::scoreRow(std::int32_t k, std::int32_t bandRow) noexcept {
         float cost = static_cast<float>(a);
         const std::size_t idx = rowBase + static_cast<std::size_t>(x);
         if (ncc && valid) {
-            const std::int64_t si = sumI_[idx];
-            const std::int64_t varI = n * sumII_[idx] - si * si;
-            const std::int64_t varW = n * b - a * a;
-            const std::int64_t cov = n * c - si * a;
-            valid = varI > 0;
-            const double ncc_value =
-                (valid && varW > 0) ? static_cast<double>(cov) / std::sqrt(static_cast<double>(varI) * static_cast<double>(varW))
-                                    : 0.0;
+            const double si = sumI_[idx];
+            const double varI = nd * sumII_[idx] - si * si;  // each term < 2^52: exact
+            const double varW = nd * b - a * a;
+            const double cov = nd * c - si * a;
+            valid = varI > 0.0;
+            const double ncc_value = (valid && varW > 0.0) ? cov / std::sqrt(varI * varW) : 0.0;
             const double oneMinus = 1.0 - ncc_value;
             cost = static_cast<float>(oneMinus > 0.0 ? oneMinus : 0.0);
         }
@@ -205,12 +212,12 @@ void PlaneSweep::imageSums(const ImageView<const std::uint16_t>& image1, std::in
                 s += v;
                 ss += static_cast<std::int64_t>(v) * v;
             }
-            colA_[static_cast<std::size_t>(x)] = s;
-            colB_[static_cast<std::size_t>(x)] = ss;
+            colA_[static_cast<std::size_t>(x)] = static_cast<double>(s);   // < 2^21: exact
+            colB_[static_cast<std::size_t>(x)] = static_cast<double>(ss);  // < 2^37: exact
         }
         const std::size_t rowBase = static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(w);
-        std::int32_t s = 0;
-        std::int64_t ss = 0;
+        double s = 0.0;
+        double ss = 0.0;
         for (std::int32_t x = 0; x < 2 * r; ++x) {
             s += colA_[static_cast<std::size_t>(x)];
             ss += colB_[static_cast<std::size_t>(x)];
@@ -234,8 +241,8 @@ void PlaneSweep::sweepBand(const ImageView<const std::uint16_t>& image1, std::in
         prevCost_[i] = kNoCost;
         belowCost_[i] = kNoCost;
         aboveCost_[i] = kNoCost;
-        sumI_[i] = 0;
-        sumII_[i] = 0;
+        sumI_[i] = 0.0;
+        sumII_[i] = 0.0;
     }
     if (config_.score == Score::kNcc) {
         imageSums(image1, y0, y1);
@@ -322,8 +329,8 @@ void PlaneSweep::decideBand(const ImageView<const std::uint16_t>& image1, std::i
             } else if ((un - uf) * (un - uf) + (vn - vf) * (vn - vf) < minParallax2) {
                 d.reason = Reason::kLowParallax;
             } else if (config_.score == Score::kNcc && best < 0 &&
-                       static_cast<std::int64_t>(config_.window) * config_.window * sumII_[idx] -
-                               static_cast<std::int64_t>(sumI_[idx]) * sumI_[idx] <= 0) {
+                       static_cast<double>(config_.window * config_.window) * sumII_[idx] - sumI_[idx] * sumI_[idx] <=
+                           0.0) {
                 d.reason = Reason::kNoTexture;
             } else {
                 d = decide(best, config_.planes, belowCost_[idx], bestCost_[idx], aboveCost_[idx]);

@@ -17,7 +17,7 @@
 //
 // Memory: the prefiltered image 2 (max_width * max_height, 16 bit) plus buffers for one
 // band of band_rows rows of image 1; workspaceBytes(config) from an Arena at init();
-// compute() never allocates. Deterministic: integer window sums, double geometry with
+// compute() never allocates. Deterministic: integer window sums (held exactly in doubles), double geometry with
 // + - * / only, the prefilter's weights quantised at run start; bit-identical on every
 // target. docs/descent.md has the method, the memory formula and the measured accuracy.
 #pragma once
@@ -176,12 +176,16 @@ private:
     Span<std::int32_t> filterRow_{};   // prefilter: one row of the vertical pass
     Span<std::uint16_t> warped_{};     // (band_rows + window - 1) rows of warped image 2
     Span<std::uint8_t> inside_{};      // same layout: 1 where the sample lies inside image 2
-    Span<std::int32_t> colA_{};        // column sums: SAD, or sum of w (NCC)
-    Span<std::int64_t> colB_{};        // NCC: sum of w^2
-    Span<std::int64_t> colC_{};        // NCC: sum of i * w
+    // The window sums are integers held in doubles: every one is below 2^52 (levels x 16 <
+    // 2^16, window <= 31), so each sum, product and difference the score takes is exact,
+    // the same values the int64 arithmetic gave, at one floating-point instruction each on
+    // the 32-bit targets (an int64 multiply or conversion is a sequence or a libgcc call).
+    Span<double> colA_{};              // column sums: SAD, or sum of w (NCC)
+    Span<double> colB_{};              // NCC: sum of w^2
+    Span<double> colC_{};              // NCC: sum of i * w
     Span<std::int32_t> colIn_{};       // samples inside image 2
-    Span<std::int32_t> sumI_{};        // NCC: window sums of image 1 (band)
-    Span<std::int64_t> sumII_{};       // NCC: window sums of image 1 squared (band)
+    Span<double> sumI_{};              // NCC: window sums of image 1 (band), exact integers
+    Span<double> sumII_{};             // NCC: window sums of image 1 squared (band), exact integers
     Span<float> bestCost_{};           // per band pixel
     Span<float> prevCost_{};           // cost at the previous plane
     Span<float> belowCost_{};          // cost at best - 1
