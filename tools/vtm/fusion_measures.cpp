@@ -55,8 +55,9 @@ double Truth::distanceToStops(double north_m, double east_m) const {
 }
 
 double Truth::stepM(std::size_t k) const {
-    const std::size_t j = k == 0 ? 1 : std::min(k, stops->size() - 1) - 1;
-    return ((*stops)[k].truth.t_m - (*stops)[j].truth.t_m).norm();
+    const std::size_t i = std::min(k, stops->size() - 1);  // the descent (k == stops): the last stop's step
+    const std::size_t j = i == 0 ? 1 : i - 1;
+    return ((*stops)[i].truth.t_m - (*stops)[j].truth.t_m).norm();
 }
 
 Vec3 Truth::centroid(std::size_t k) const {

@@ -38,7 +38,8 @@ struct Truth {
     [[nodiscard]] double elevationInMap(double north_m, double east_m) const;
     // Horizontal distance from map (north, east) to the nearest stop (true position).
     [[nodiscard]] double distanceToStops(double north_m, double east_m) const;
-    // Stop k's distance to its neighbour (k - 1; stop 0: stop 1), true positions.
+    // Stop k's distance to its neighbour (k - 1; stop 0: stop 1), true positions; for the
+    // descent (k == stops->size()) the last stop's.
     [[nodiscard]] double stepM(std::size_t k) const;
     // The model's points' centroid in its own frame.
     [[nodiscard]] Vec3 centroid(std::size_t k) const;
