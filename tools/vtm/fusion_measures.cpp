@@ -83,6 +83,17 @@ std::vector<PoseError> poseErrors(const Truth& truth, const std::vector<app::Add
     return out;
 }
 
+TargetCount countTargets(const Truth& truth, const std::vector<app::AddResult>& results) {
+    TargetCount t;
+    const std::vector<PoseError> e = poseErrors(truth, results);
+    for (std::size_t k = 1; k < truth.stops->size(); ++k) {
+        t.registered += results[k].registered ? 1 : 0;
+        t.rotation_met += e[k].rotation_deg <= kRotationTarget_deg ? 1 : 0;
+        t.translation_met += e[k].translation_percent <= kTranslationTarget_percent ? 1 : 0;
+    }
+    return t;
+}
+
 std::string stopTable(const Truth& truth, const std::vector<app::AddResult>& reg, const std::vector<app::AddResult>& nav,
                       const std::vector<double>& seconds) {
     std::string out =
@@ -118,15 +129,13 @@ HeightReport heightReport(const Truth& truth, const octree::HeightProducts& prod
         const bool finest = p == products.count() - 1;
         const std::int32_t cols = map.grid().cols, rows = map.grid().rows;
         std::vector<double> err(static_cast<std::size_t>(cols) * rows, std::numeric_limits<double>::quiet_NaN());
-        std::vector<double> tru(err.size(), 0.0);
         for (std::int32_t row = 0; row < rows; ++row) {
             for (std::int32_t col = 0; col < cols; ++col) {
                 const float e = map.elevation(col, row);
                 if (terrain::isNoData(e)) continue;
                 const double north = map.centreNorthM(row), east = map.centreEastM(col);
                 const std::size_t i = static_cast<std::size_t>(row) * cols + col;
-                tru[i] = truth.elevationInMap(north, east);
-                err[i] = e - tru[i];
+                err[i] = e - truth.elevationInMap(north, east);
                 out.product[p].add(err[i]);
                 if (!finest) continue;
                 const double d = truth.distanceToStops(north, east);

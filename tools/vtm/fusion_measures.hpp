@@ -53,6 +53,12 @@ struct PoseError {
 PoseError poseError(const Truth& truth, std::size_t k, const RigidPose& map_from_model);
 std::vector<PoseError> poseErrors(const Truth& truth, const std::vector<app::AddResult>& results);
 
+// Issue 25's targets over the registered stops (1..n-1; stop 0 is the reference).
+struct TargetCount {
+    int registered = 0, rotation_met = 0, translation_met = 0;
+};
+TargetCount countTargets(const Truth& truth, const std::vector<app::AddResult>& results);
+
 // Markdown table, a row per model: the navigation's and the registered pose's errors.
 std::string stopTable(const Truth& truth, const std::vector<app::AddResult>& reg,
                       const std::vector<app::AddResult>& nav, const std::vector<double>& seconds);

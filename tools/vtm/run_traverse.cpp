@@ -59,21 +59,6 @@ std::string writeLevels(const traverse::Truth& truth, const octree::HeightProduc
     return "";
 }
 
-struct Targets {
-    int rotation_met = 0, translation_met = 0, registered = 0;
-};
-
-Targets countTargets(const traverse::Truth& truth, const std::vector<app::AddResult>& results) {
-    Targets t;
-    const std::vector<traverse::PoseError> e = traverse::poseErrors(truth, results);
-    for (std::size_t k = 1; k < truth.stops->size(); ++k) {  // stop 0 is the reference
-        t.registered += results[k].registered ? 1 : 0;
-        t.rotation_met += e[k].rotation_deg <= traverse::kRotationTarget_deg ? 1 : 0;
-        t.translation_met += e[k].translation_percent <= traverse::kTranslationTarget_percent ? 1 : 0;
-    }
-    return t;
-}
-
 }  // namespace
 
 std::string flyTraverse(const std::string& text, std::int32_t side_px, const std::string& out_dir, std::string& section,
@@ -97,13 +82,14 @@ std::string flyTraverse(const std::string& text, std::int32_t side_px, const std
                   "## Traverse and descent, fused\n\n"
                   "The flight `TerrainIntegrator` (fsw/app: octree, point-to-plane ICP, height maps at several "
                   "resolutions) on one simulated terrain (%s): %zu rover stops, each mapped by the rover's fixed "
-                  "stereo pair (%d x %d, 0.35 m; MlStereo, the speckle filter and triangulation, flight modules "
+                  "stereo pair (%d x %d, %.2f m; MlStereo, the speckle filter and triangulation, flight modules "
                   "composed here: there is no stop executive) in its vehicle frame and placed by the odometry with "
                   "its drift, and one descent pair (%d x %d, DescentMapper) whose elevation map carries a navigation "
                   "error of %.2f deg and %.2f m. Stop 0 is the reference; each later stop is registered to the map of "
                   "the stops before, then the descent map to the rover map (docs/integrator.md). World and maps built "
                   "in %.1f s (stereo %.1f s, descent %.1f s).\n\n",
-                  w->traverse.scenario.name, w->stops.size(), side_px, side_px, side_px, side_px,
+                  w->traverse.scenario.name, w->stops.size(), side_px, side_px, traverse::kStereoBaseline_m, side_px,
+                  side_px,
                   180.0 / 3.14159265358979323846 * rotationAngleRad(traverse::descentError().R, Mat3::Identity()),
                   traverse::descentError().t_m.norm(), w->build_s + w->stereo_s + w->descent_s, w->stereo_s,
                   w->descent_s);
@@ -121,7 +107,7 @@ std::string flyTraverse(const std::string& text, std::int32_t side_px, const std
         std::fprintf(stderr, "vtm run: the integrator refused %s\n", r.c_str());
         md << "Refused by the integrator (the map left as it was, the later models still added): " << r << ".\n\n";
     }
-    const Targets t = countTargets(truth, reg->results);
+    const traverse::TargetCount t = traverse::countTargets(truth, reg->results);
     std::snprintf(b, sizeof b,
                   "Registered %d of %zu later stops. Issue 25's targets: rotation <= %.2f deg met by %d of %zu stops, "
                   "translation <= %.0f %% of the stop-to-stop step by %d of %zu. Per model (the navigation column "
@@ -134,6 +120,7 @@ std::string flyTraverse(const std::string& text, std::int32_t side_px, const std
     md << traverse::heightTables({traverse::modeName(Mode::kRegistered), traverse::modeName(Mode::kNavigation)},
                                  reports)
        << "\n";
+    const octree::OctreeConfig cube = traverse::fusionConfig().octree;
     std::string files;
     const std::string e = writeLevels(truth, *reg->integrator->products(), out_dir, files);
     if (!e.empty()) return e;
@@ -142,9 +129,8 @@ std::string flyTraverse(const std::string& text, std::int32_t side_px, const std
           "+-0.25 m to white / black):\n\n"
        << "![2 m](traverse_fused_2m.png) ![0.5 m](traverse_fused_0.5m.png) ![0.25 m](traverse_fused_0.25m.png) "
           "![error](traverse_fused_error_0.25m.png)\n\n"
-       << "Files: " << files << " (metres, NaN = no data; row 0 north, the octree's " << traverse::fusionConfig().octree.side_m
-       << " m cube from " << traverse::fusionConfig().octree.north_edge_m << " m north, "
-       << traverse::fusionConfig().octree.west_edge_m << " m east). Total " << secondsSince(t0) << " s.\n\n";
+       << "Files: " << files << " (metres, NaN = no data; row 0 north, the octree's " << cube.side_m << " m cube from "
+       << cube.north_edge_m << " m north, " << cube.west_edge_m << " m east). Total " << secondsSince(t0) << " s.\n\n";
     std::fprintf(stderr, "vtm run: traverse fused in %.1f s: %d of %zu stops registered, 0.25 m map RMS %.3f m\n",
                  secondsSince(t0), t.registered, w->stops.size() - 1U, reports[0].product[2].rms_m);
     section = md.str();

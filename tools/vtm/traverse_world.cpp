@@ -47,14 +47,13 @@ std::string descentText(const std::string& traverse_text, std::int32_t px) {
 // camera's projection centre and parallel to it (as the rover_pair scenario's fixed pair),
 // rendered from the stop's TRUE pose; MlStereo, the speckle filter, and triangulation in
 // the vehicle frame (RectifiedGeometry with the rig's vehicle_from_left).
-constexpr double kBaseline_m = 0.35;
 
 Status mapStop(const World& w, const sim::ScenarioFrame& mast, StopMap& out) {
     const std::int32_t n = w.sizes.stereo_px;
     const CameraModel model = makePinhole(static_cast<std::uint16_t>(n), static_cast<std::uint16_t>(n), 45.0);
     RigidPose site_from_left = mast.camera_pose;
-    site_from_left.t_m -= mast.camera_pose.R * Vec3(0.5 * kBaseline_m, 0.0, 0.0);
-    const RigidPose site_from_right = sim::rightPoseOfRectifiedPair(site_from_left, kBaseline_m);
+    site_from_left.t_m -= mast.camera_pose.R * Vec3(0.5 * kStereoBaseline_m, 0.0, 0.0);
+    const RigidPose site_from_right = sim::rightPoseOfRectifiedPair(site_from_left, kStereoBaseline_m);
     std::vector<std::uint8_t> left(static_cast<std::size_t>(n) * n), right(left.size());
     std::vector<float> depth(left.size());
     for (int side = 0; side < 2; ++side) {
@@ -71,7 +70,7 @@ Status mapStop(const World& w, const sim::ScenarioFrame& mast, StopMap& out) {
     stereo::Config sc = stereo::Config::conservative();  // left-right check (1 px), uniqueness 5 %
     sc.max_width = sc.max_height = n;
     sc.d_min = 0;
-    sc.d_max = static_cast<std::int32_t>(std::ceil(model.fx_px * kBaseline_m / 1.5));  // nearest 1.5 m
+    sc.d_max = static_cast<std::int32_t>(std::ceil(model.fx_px * kStereoBaseline_m / 1.5));  // nearest 1.5 m
     std::vector<std::byte> pool(stereo::MlStereo::workspaceBytes(sc) + 64U);
     Arena arena(pool.data(), pool.size());
     auto ml = std::make_unique<stereo::MlStereo>();
@@ -95,9 +94,9 @@ Status mapStop(const World& w, const sim::ScenarioFrame& mast, StopMap& out) {
     g.fy_px = model.fy_px;
     g.cx_left_px = g.cx_right_px = model.cx_px;
     g.cy_px = model.cy_px;
-    g.baseline_m = kBaseline_m;
+    g.baseline_m = kStereoBaseline_m;
     g.R_site_from_rect = vehicle_from_mast.R;  // "site" = the vehicle frame here
-    g.left_centre_site_m = vehicle_from_mast.t_m - vehicle_from_mast.R * Vec3(0.5 * kBaseline_m, 0.0, 0.0);
+    g.left_centre_site_m = vehicle_from_mast.t_m - vehicle_from_mast.R * Vec3(0.5 * kStereoBaseline_m, 0.0, 0.0);
     terrain::TriangulationLimits limits;
     limits.min_range_m = 1.0;
     limits.max_range_m = 12.0;

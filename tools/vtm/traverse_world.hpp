@@ -16,6 +16,9 @@
 
 namespace vtm::traverse {
 
+// The rover's fixed stereo pair at each stop: two parallel 45 deg pinholes this far apart.
+constexpr double kStereoBaseline_m = 0.35;
+
 struct Sizes {
     std::int32_t stereo_px = 512;    // the rover pair's side
     std::int32_t descent_px = 512;   // the nadir frames' side
