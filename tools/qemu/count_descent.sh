@@ -3,6 +3,7 @@
 # qemu-user with the exact counting plugin (tools/qemu/insn_count.c).
 #
 #   tools/qemu/count_descent.sh [--build DIR] [--emulator QEMU] [--size N] [--planes P1,P2]
+#                               [--max-marginal M] [--max-fixed F]
 #
 # Defaults: --build build/h-desc-ppc750 (`cmake --preset ppc750 -B build/h-desc-ppc750 &&
 # cmake --build build/h-desc-ppc750 --target vtm_descent_insn_probe`), --emulator qemu-ppc,
@@ -15,6 +16,9 @@
 #   all-in per plane at P        = C(P) / P           (the issue's "instructions per plane")
 #   marginal per pixel*plane     = (C(P2) - C(P1)) / (N2 * (P2 - P1))
 #   per pixel, independent of P  = C(P1) / N2 - marginal * P1   (prefilter, decision)
+# --max-marginal M, --max-fixed F: a gate. Exit 1 (after the report) when the marginal
+# per pixel*plane exceeds M or the per-pixel part exceeds F. The counts are exact, so the
+# gate is deterministic (ctest bench.descent_insn_gate on ppc750).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -22,13 +26,17 @@ build=$root/build/h-desc-ppc750
 emulator=qemu-ppc
 size=1024
 planes=32,64
+max_marginal=""
+max_fixed=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --emulator) emulator=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --planes) planes=$2; shift 2 ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    --max-marginal) max_marginal=$2; shift 2 ;;
+    --max-fixed) max_fixed=$2; shift 2 ;;
+    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
     *) echo "count_descent.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -55,7 +63,7 @@ for p in "$p1" "$p2"; do
 done
 echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${size}x${size}"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/descent-probe-$p2-1.log")"
-awk -v n="$size" -v p1="$p1" -v p2="$p2" \
+figures=$(awk -v n="$size" -v p1="$p1" -v p2="$p2" \
     -v a1="${c[$p1,1]}" -v a2="${c[$p1,2]}" -v b1="${c[$p2,1]}" -v b2="${c[$p2,2]}" 'BEGIN {
   n2 = n * n; c1 = a2 - a1; c2 = b2 - b1
   printf "one compute(), %d planes: %.0f instructions\n", p1, c1
@@ -64,4 +72,16 @@ awk -v n="$size" -v p1="$p1" -v p2="$p2" \
   m = (c2 - c1) / (n2 * (p2 - p1))
   printf "marginal per pixel*plane (%d..%d planes): %.2f\n", p1, p2, m
   printf "per pixel, independent of the planes: %.1f\n", c1 / n2 - m * p1
-}'
+}')
+echo "$figures"
+gate=0
+check() {  # check NAME VALUE LIMIT
+  if awk -v v="$2" -v m="$3" 'BEGIN { exit !(v > m) }'; then
+    echo "gate: $1 $2 > $3: FAILED"; gate=1
+  else
+    echo "gate: $1 $2 <= $3: ok"
+  fi
+}
+[ -n "$max_marginal" ] && check "marginal per pixel*plane" "$(echo "$figures" | awk '/^marginal/ {print $NF}')" "$max_marginal"
+[ -n "$max_fixed" ] && check "per pixel, independent of the planes" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
+exit "$gate"

@@ -22,7 +22,7 @@ Sizes sizesOf(const Config& c) noexcept {
     const auto w = static_cast<std::size_t>(c.max_width);
     Sizes s{};
     s.planes = static_cast<std::size_t>(c.planes);
-    s.image = w * static_cast<std::size_t>(c.max_height);
+    s.image = w * static_cast<std::size_t>(c.max_height) + w + 1U;  // + a padding row and a pixel
     s.width = w;
     s.warped = w * static_cast<std::size_t>(c.band_rows + c.window - 1);
     s.band = w * static_cast<std::size_t>(c.band_rows);
@@ -74,11 +74,10 @@ std::size_t PlaneSweep::workspaceBytes(const Config& config) noexcept {
     return Arena::arrayBytes<double>(9U * s.planes) + Arena::arrayBytes<double>(s.planes)    // homographies, 1/z
            + Arena::arrayBytes<std::uint16_t>(s.image)                              // prefiltered image 2
            + Arena::arrayBytes<std::int32_t>(s.width)                               // prefilter row
-           + Arena::arrayBytes<std::uint16_t>(s.warped) + Arena::arrayBytes<std::uint8_t>(s.warped)  // warped band, inside flags
+           + 2U * Arena::arrayBytes<float>(s.warped)                                // image-1 rows, warped rows
            + 3U * Arena::arrayBytes<double>(s.width)                                // column sums A, B, C
-           + Arena::arrayBytes<std::int32_t>(s.width)                               // column inside counts
-           + 2U * Arena::arrayBytes<double>(s.band)                                 // image-1 window sums (NCC)
-           + 4U * Arena::arrayBytes<float>(s.band)                                  // best, previous, below, above cost
+           + 2U * Arena::arrayBytes<double>(s.band)                                 // image-1 window sum, variance (NCC)
+           + 4U * Arena::arrayBytes<float>(s.band)                                  // best, previous, below, above score
            + Arena::arrayBytes<std::int16_t>(s.band);                               // best plane
 }
 
@@ -90,22 +89,21 @@ Status PlaneSweep::init(const Config& config, Arena& arena) noexcept {
     inverseDepth_ = arena.allocateArray<double>(s.planes);
     image2_ = arena.allocateArray<std::uint16_t>(s.image);
     filterRow_ = arena.allocateArray<std::int32_t>(s.width);
-    warped_ = arena.allocateArray<std::uint16_t>(s.warped);
-    inside_ = arena.allocateArray<std::uint8_t>(s.warped);
+    image1Rows_ = arena.allocateArray<float>(s.warped);
+    warped_ = arena.allocateArray<float>(s.warped);
     colA_ = arena.allocateArray<double>(s.width);
     colB_ = arena.allocateArray<double>(s.width);
     colC_ = arena.allocateArray<double>(s.width);
-    colIn_ = arena.allocateArray<std::int32_t>(s.width);
     sumI_ = arena.allocateArray<double>(s.band);
-    sumII_ = arena.allocateArray<double>(s.band);
-    bestCost_ = arena.allocateArray<float>(s.band);
-    prevCost_ = arena.allocateArray<float>(s.band);
-    belowCost_ = arena.allocateArray<float>(s.band);
-    aboveCost_ = arena.allocateArray<float>(s.band);
+    varI_ = arena.allocateArray<double>(s.band);
+    bestScore_ = arena.allocateArray<float>(s.band);
+    prevScore_ = arena.allocateArray<float>(s.band);
+    belowScore_ = arena.allocateArray<float>(s.band);
+    aboveScore_ = arena.allocateArray<float>(s.band);
     bestIndex_ = arena.allocateArray<std::int16_t>(s.band);
-    if (bestIndex_.empty() || aboveCost_.empty() || belowCost_.empty() || prevCost_.empty() ||
-        bestCost_.empty() || sumII_.empty() || sumI_.empty() || colIn_.empty() || colC_.empty() ||
-        colB_.empty() || colA_.empty() || inside_.empty() || warped_.empty() || filterRow_.empty() ||
+    if (bestIndex_.empty() || aboveScore_.empty() || belowScore_.empty() || prevScore_.empty() ||
+        bestScore_.empty() || varI_.empty() || sumI_.empty() || colC_.empty() ||
+        colB_.empty() || colA_.empty() || warped_.empty() || image1Rows_.empty() || filterRow_.empty() ||
         image2_.empty() || inverseDepth_.empty() || homographies_.empty()) {
         return Status(StatusCode::kOutOfMemory, "PlaneSweep::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));

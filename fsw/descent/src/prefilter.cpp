@@ -75,6 +75,12 @@ void PlaneSweep::prefilter(const ImageView<const std::uint16_t>& image2, double 
             out[x] = static_cast<std::uint16_t>((s + kRound) >> kShift);
         }
     }
+    // The padding after the last row (warpRows() reads it with weight 0 at the image's
+    // last row and column; zero, so that every value read is defined).
+    std::uint16_t* pad = image2_.data() + static_cast<std::ptrdiff_t>(h) * w;
+    for (std::int32_t x = 0; x <= w; ++x) {
+        pad[x] = 0U;
+    }
 }
 
 }  // namespace vtm::descent

@@ -1,8 +1,8 @@
 // The sweep proper: per band of image-1 rows, per plane: warp image 2 (bilinear, 1/32 px
-// positions) onto the band plus the window's margin, update window column sums row by
-// row (add the entering row, subtract the leaving one), slide along each row for the
-// window sums, and keep per pixel the best plane and its neighbours' costs. Then decide
-// each pixel: reason, parabola in inverse depth, depth.
+// positions) onto the band plus the window's margin, slide the window column sums down
+// the band (the entering row in, the leaving one out, one pass), slide along each row for
+// the window sums, and keep per pixel the best plane and its neighbours' scores. Then
+// decide each pixel: reason, parabola in inverse depth, depth.
 #include <cmath>
 #include <limits>
 
@@ -11,7 +11,8 @@
 namespace vtm::descent {
 namespace {
 
-constexpr float kNoCost = -1.0F;  // costs are >= 0
+constexpr float kNoScore = std::numeric_limits<float>::lowest();  // below every score
+constexpr float kNoCost = -1.0F;                                   // costs are >= 0
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr std::int32_t kSubpixelBits = 5;  // bilinear positions in 1/32 px (as OpenCV's INTER_BITS)
 constexpr std::int32_t kSubpixel = 1 << kSubpixelBits;
@@ -19,126 +20,145 @@ constexpr std::int32_t kSubpixel = 1 << kSubpixelBits;
 // The running column sums of the window score (one entry per column): exact integers in
 // doubles (plane_sweep.hpp, colA_).
 struct ColumnSums {
-    double* a;         // NCC: sum of warped levels; SAD: sum of absolute differences
-    double* b;         // NCC: sum of squared warped levels
-    double* c;         // NCC: sum of products with image 1
-    std::int32_t* in;  // pixels whose warped sample lies inside image 2
+    double* a;  // NCC: sum of warped levels; SAD: sum of absolute differences
+    double* b;  // NCC: sum of squared warped levels
+    double* c;  // NCC: sum of products with image 1
 };
 
-// Column-sum update with one row of image 1 (levels x 16) and its warped row. Every
-// product is below 2^32 and every sum below 2^52: exact in double.
-template <bool kNcc, std::int32_t kSign>
-void accumulateRow(const std::uint16_t* i1, const std::uint16_t* w2, const std::uint8_t* in, std::int32_t width,
-                   const ColumnSums& sums) noexcept {
-    double* const colA = sums.a;
-    double* const colB = sums.b;
-    double* const colC = sums.c;
-    std::int32_t* const colIn = sums.in;
-    constexpr double kS = static_cast<double>(kSign);
+// One row's contribution to a column: NCC: w, w^2, i w; SAD: |i - w| (in a). Every
+// value is an integer below 2^32: exact in double.
+template <bool kNcc>
+void addRow(const float* i1, const float* w2, std::int32_t width, const ColumnSums& sums) noexcept {
     for (std::int32_t x = 0; x < width; ++x) {
-        const std::int32_t i = static_cast<std::int32_t>(i1[x]) << 4;
-        const std::int32_t w = static_cast<std::int32_t>(w2[x]);
+        const double i = static_cast<double>(i1[x]);
+        const double w = static_cast<double>(w2[x]);
         if constexpr (kNcc) {
-            const double wd = static_cast<double>(w);
-            colA[x] += kS * wd;
-            colB[x] += kS * (wd * wd);
-            colC[x] += kS * (static_cast<double>(i) * wd);
+            sums.a[x] += w;
+            sums.b[x] += w * w;
+            sums.c[x] += i * w;
         } else {
-            const std::int32_t d = i - w;
-            colA[x] += kS * static_cast<double>(d < 0 ? -d : d);
+            sums.a[x] += std::fabs(i - w);
         }
-        colIn[x] += kSign * static_cast<std::int32_t>(in[x]);
+    }
+}
+
+// Moves every column's window down a row: the entering row (i1, w2) in, the leaving row
+// (o1, ow) out, in one pass. Exact, so the same sums as adding and subtracting apart.
+template <bool kNcc>
+void slideRow(const float* i1, const float* w2, const float* o1, const float* ow, std::int32_t width,
+              const ColumnSums& sums) noexcept {
+    for (std::int32_t x = 0; x < width; ++x) {
+        const double i = static_cast<double>(i1[x]);
+        const double w = static_cast<double>(w2[x]);
+        const double io = static_cast<double>(o1[x]);
+        const double wo = static_cast<double>(ow[x]);
+        if constexpr (kNcc) {
+            sums.a[x] += w - wo;
+            sums.b[x] += w * w - wo * wo;
+            sums.c[x] += i * w - io * wo;
+        } else {
+            sums.a[x] += std::fabs(i - w) - std::fabs(io - wo);
+        }
     }
 }
 
 }  // namespace
 
-// Per band pixel: the best plane so far, the cost of the previous plane, and the costs
-// of the best plane's two neighbours (for the parabola).
+// Image 1's rows y0 - r .. y1 + r - 1 as floats, levels x 16 (the warped rows' scale).
+void PlaneSweep::loadImage1Rows(const ImageView<const std::uint16_t>& image1, std::int32_t y0,
+                                std::int32_t y1) noexcept {
+    const std::int32_t w = width_;
+    float* out = image1Rows_.data();
+    for (std::int32_t y = y0 - radius_; y < y1 + radius_; ++y) {
+        const std::uint16_t* row = image1.row(y);
+        for (std::int32_t x = 0; x < w; ++x) {
+            out[x] = static_cast<float>(static_cast<std::int32_t>(row[x]) << 4);
+        }
+        out += w;
+    }
+}
+
+// Image 2 sampled at H_k p for the band's rows. A sample outside image 2 (or behind
+// camera 2) is 0: such windows belong to pixels that decideBand() flags kOutOfView (its
+// test maps the same positions: 32 u here is exactly 32 times detail::mapPixel's u).
 void PlaneSweep::warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows) noexcept {
     const double* h = &homographies_[9U * static_cast<std::size_t>(k)];
+    // The first two rows times 32: u * 32 = (32 X) / W exactly (a power of two), so the
+    // 1/32 px positions are the same integers as from u itself, one multiply fewer.
+    const double s = static_cast<double>(kSubpixel);
+    const double h0 = s * h[0], h3 = s * h[3];
     const std::int32_t w = width_;
-    const double maxU = static_cast<double>(width_ - 1);
-    const double maxV = static_cast<double>(height_ - 1);
+    // Image 2's extent in 1/32 px, as centre and half-width: |32 u - cu| <= cu is
+    // 0 <= 32 u <= 32 (width - 1), i.e. u inside (a rounded difference cannot leave the
+    // interval [-cu, cu] from inside it), and it is false for NaN.
+    const double cu = 0.5 * s * static_cast<double>(width_ - 1);
+    const double cv = 0.5 * s * static_cast<double>(height_ - 1);
     const std::uint16_t* src = image2_.data();
     for (std::int32_t j = 0; j < rows; ++j) {
         const double y = static_cast<double>(yFirst + j);
-        const double bx = h[1] * y + h[2];
-        const double by = h[4] * y + h[5];
+        const double bx = s * (h[1] * y + h[2]);
+        const double by = s * (h[4] * y + h[5]);
         const double bw = h[7] * y + h[8];
-        std::uint16_t* out = warped_.data() + static_cast<std::ptrdiff_t>(j) * w;
-        std::uint8_t* in = inside_.data() + static_cast<std::ptrdiff_t>(j) * w;
-        for (std::int32_t x = 0; x < w; ++x) {
-            const double xd = static_cast<double>(x);
+        float* out = warped_.data() + static_cast<std::ptrdiff_t>(j) * w;
+        double xd = 0.0;  // x as a double without a conversion per pixel (exact)
+        for (std::int32_t x = 0; x < w; ++x, xd += 1.0) {
             const double W = h[6] * xd + bw;
-            const double inv = W > 0.0 ? 1.0 / W : -1.0;
-            const double u = (h[0] * xd + bx) * inv;
-            const double v = (h[3] * xd + by) * inv;
-            if (!(u >= 0.0 && u <= maxU && v >= 0.0 && v <= maxV)) {
-                out[x] = 0U;
-                in[x] = 0U;
+            if (!(W > 0.0)) {
+                out[x] = 0.0F;
                 continue;
             }
-            // floor(u * 32 + 0.5): u, v >= 0 here, so the sum is positive and truncation is
-            // the floor, the same integers as std::floor without its libm call on targets
-            // that have no rounding instruction (the 750). Not lround: halves go up here.
-            const auto ui = static_cast<std::int32_t>(u * kSubpixel + 0.5);  // NOLINT(bugprone-incorrect-roundings)
-            const auto vi = static_cast<std::int32_t>(v * kSubpixel + 0.5);  // NOLINT(bugprone-incorrect-roundings)
-            std::int32_t ix = ui >> kSubpixelBits;
-            std::int32_t fx = ui & (kSubpixel - 1);
-            std::int32_t iy = vi >> kSubpixelBits;
-            std::int32_t fy = vi & (kSubpixel - 1);
-            if (ix >= width_ - 1) {  // u == w - 1: all weight on the last column
-                ix = width_ - 2;
-                fx = kSubpixel;
+            const double inv = 1.0 / W;
+            const double pu = (h0 * xd + bx) * inv;  // 32 u
+            const double pv = (h3 * xd + by) * inv;  // 32 v
+            if (!(std::fabs(pu - cu) <= cu && std::fabs(pv - cv) <= cv)) {
+                out[x] = 0.0F;
+                continue;
             }
-            if (iy >= height_ - 1) {
-                iy = height_ - 2;
-                fy = kSubpixel;
-            }
+            // floor(32 u + 0.5): 32 u > -0.5 here (rounding at the lower edge can let
+            // through a value a hair below 0), so truncation is the floor, the same integers
+            // as std::floor without its libm call on the 750 (no rounding instruction).
+            // Not lround: halves go up here.
+            const auto ui = static_cast<std::int32_t>(pu + 0.5);  // NOLINT(bugprone-incorrect-roundings)
+            const auto vi = static_cast<std::int32_t>(pv + 0.5);  // NOLINT(bugprone-incorrect-roundings)
+            const std::int32_t ix = ui >> kSubpixelBits;
+            const std::int32_t fx = ui & (kSubpixel - 1);
+            const std::int32_t iy = vi >> kSubpixelBits;
+            const std::int32_t fy = vi & (kSubpixel - 1);
+            // At the last column (row) fx (fy) is 0: the pixel after it, the next row's
+            // first or the padding row (prefilter()), enters with weight 0.
             const std::uint16_t* p = src + static_cast<std::ptrdiff_t>(iy) * w + ix;
             const auto top = static_cast<std::uint32_t>(p[0] * (kSubpixel - fx) + p[1] * fx);
             const auto bottom = static_cast<std::uint32_t>(p[w] * (kSubpixel - fx) + p[w + 1] * fx);
             const std::uint32_t sum = top * static_cast<std::uint32_t>(kSubpixel - fy) +
                                       bottom * static_cast<std::uint32_t>(fy);
-            out[x] = static_cast<std::uint16_t>((sum + 512U) >> 10U);
-            in[x] = 1U;
+            out[x] = static_cast<float>(static_cast<std::int32_t>((sum + 512U) >> 10U));
         }
     }
 }
 
-void PlaneSweep::scorePlane(const ImageView<const std::uint16_t>& image1, std::int32_t k, std::int32_t y0,
-                            std::int32_t y1) noexcept {
+void PlaneSweep::scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1) noexcept {
     const std::int32_t r = radius_;
     const std::int32_t w = width_;
-    warpRows(k, y0 - r, y1 - y0 + 2 * r);
+    const std::int32_t rows = y1 - y0 + 2 * r;
+    warpRows(k, y0 - r, rows);
     for (std::int32_t x = 0; x < w; ++x) {
         colA_[static_cast<std::size_t>(x)] = 0.0;
         colB_[static_cast<std::size_t>(x)] = 0.0;
         colC_[static_cast<std::size_t>(x)] = 0.0;
-        colIn_[static_cast<std::size_t>(x)] = 0;
     }
     const bool ncc = config_.score == Score::kNcc;
-    const ColumnSums sums{colA_.data(), colB_.data(), colC_.data(), colIn_.data()};
-    auto add = [&](std::int32_t y, bool subtract) {
-        const std::int32_t j = y - (y0 - r);
-        const std::uint16_t* w2 = warped_.data() + static_cast<std::ptrdiff_t>(j) * w;
-        const std::uint8_t* in = inside_.data() + static_cast<std::ptrdiff_t>(j) * w;
-        if (ncc) {
-            (subtract ? accumulateRow<true, -1> : accumulateRow<true, 1>)(
-                image1.row(y), w2, in, w, sums);
-        } else {
-            (subtract ? accumulateRow<false, -1> : accumulateRow<false, 1>)(
-                image1.row(y), w2, in, w, sums);
-        }
-    };
-    for (std::int32_t y = y0 - r; y <= y0 + r; ++y) {
-        add(y, false);
+    const ColumnSums sums{colA_.data(), colB_.data(), colC_.data()};
+    // Row j of the band's buffers is image row y0 - r + j.
+    auto i1 = [&](std::int32_t j) { return image1Rows_.data() + static_cast<std::ptrdiff_t>(j) * w; };
+    auto w2 = [&](std::int32_t j) { return warped_.data() + static_cast<std::ptrdiff_t>(j) * w; };
+    for (std::int32_t j = 0; j <= 2 * r; ++j) {
+        (ncc ? addRow<true> : addRow<false>)(i1(j), w2(j), w, sums);
     }
     for (std::int32_t y = y0; y < y1; ++y) {
         if (y > y0) {
-            add(y - r - 1, true);
-            add(y + r, false);
+            const std::int32_t enter = y + r - (y0 - r);
+            const std::int32_t leave = enter - 2 * r - 1;
+            (ncc ? slideRow<true> : slideRow<false>)(i1(enter), w2(enter), i1(leave), w2(leave), w, sums);
         }
         scoreRow(k, y - y0);
     }
@@ -147,73 +167,89 @@ void PlaneSweep::scorePlane(const ImageView<const std::uint16_t>& image1, std::i
 void PlaneSweep::scoreRow(std::int32_t k, std::int32_t bandRow) noexcept {
     const std::int32_t r = radius_;
     const std::int32_t w = width_;
-    const std::int32_t n = config_.window * config_.window;
-    const auto nd = static_cast<double>(n);
+    const auto nd = static_cast<double>(config_.window * config_.window);
     const bool ncc = config_.score == Score::kNcc;
+    // Raw pointers into the spans, taken once (the loop's bounds keep every index inside:
+    // columns 0..w-1, the band row's pixels r..w-r-1).
+    const double* colA = colA_.data();
+    const double* colB = colB_.data();
+    const double* colC = colC_.data();
+    const std::ptrdiff_t rowBase = static_cast<std::ptrdiff_t>(bandRow) * w;
+    const double* sumI = sumI_.data() + rowBase;
+    const double* varI = varI_.data() + rowBase;
+    float* bestScore = bestScore_.data() + rowBase;
+    float* prevScore = prevScore_.data() + rowBase;
+    float* belowScore = belowScore_.data() + rowBase;
+    float* aboveScore = aboveScore_.data() + rowBase;
+    std::int16_t* bestIndex = bestIndex_.data() + rowBase;
+    // A plane's score at pixel x: the best so far, or the best's upper neighbour; and the
+    // previous plane's for the next one.
+    auto keep = [&](std::int32_t x, float score) {
+        const std::int16_t best = bestIndex[x];
+        if (best < 0 || score > bestScore[x]) {
+            belowScore[x] = prevScore[x];
+            aboveScore[x] = kNoScore;
+            bestScore[x] = score;
+            bestIndex[x] = static_cast<std::int16_t>(k);
+        } else if (best == k - 1) {
+            aboveScore[x] = score;
+        }
+        prevScore[x] = score;
+    };
     // Exact integers (plane_sweep.hpp, colA_): the same values as in int64.
     double a = 0.0, b = 0.0, c = 0.0;
-    std::int32_t in = 0;
     for (std::int32_t x = 0; x < 2 * r; ++x) {
-        a += colA_[static_cast<std::size_t>(x)];
-        b += colB_[static_cast<std::size_t>(x)];
-        c += colC_[static_cast<std::size_t>(x)];
-        in += colIn_[static_cast<std::size_t>(x)];
+        a += colA[x];
+        b += colB[x];
+        c += colC[x];
     }
-    const std::size_t rowBase = static_cast<std::size_t>(bandRow) * static_cast<std::size_t>(w);
+    if (!ncc) {
+        for (std::int32_t x = r; x < w - r; ++x) {
+            a += colA[x + r];
+            keep(x, -static_cast<float>(a));
+            a -= colA[x - r];
+        }
+        return;
+    }
     for (std::int32_t x = r; x < w - r; ++x) {
-        const std::size_t enter = static_cast<std::size_t>(x) + static_cast<std::size_t>(r);
-        a += colA_[enter];
-        b += colB_[enter];
-        c += colC_[enter];
-        in += colIn_[enter];
-        bool valid = in == n;
-        float cost = static_cast<float>(a);
-        const std::size_t idx = rowBase + static_cast<std::size_t>(x);
-        if (ncc && valid) {
-            const double si = sumI_[idx];
-            const double varI = nd * sumII_[idx] - si * si;  // each term < 2^52: exact
+        a += colA[x + r];
+        b += colB[x + r];
+        c += colC[x + r];
+        if (varI[x] > 0.0) {
+            // ncc * |ncc| = cov |cov| / (varI varW): the planes' order without a sqrt.
             const double varW = nd * b - a * a;
-            const double cov = nd * c - si * a;
-            valid = varI > 0.0;
-            const double ncc_value = (valid && varW > 0.0) ? cov / std::sqrt(varI * varW) : 0.0;
-            const double oneMinus = 1.0 - ncc_value;
-            cost = static_cast<float>(oneMinus > 0.0 ? oneMinus : 0.0);
+            const double cov = nd * c - sumI[x] * a;
+            keep(x, varW > 0.0 ? static_cast<float>(cov * std::fabs(cov) / (varI[x] * varW)) : 0.0F);
+        } else {
+            prevScore[x] = kNoScore;  // image 1 flat here: no score at any plane
         }
-        if (valid) {
-            const std::int16_t best = bestIndex_[idx];
-            if (best < 0 || cost < bestCost_[idx]) {
-                belowCost_[idx] = prevCost_[idx];
-                aboveCost_[idx] = kNoCost;
-                bestCost_[idx] = cost;
-                bestIndex_[idx] = static_cast<std::int16_t>(k);
-            } else if (best == k - 1) {
-                aboveCost_[idx] = cost;
-            }
-        }
-        prevCost_[idx] = valid ? cost : kNoCost;
-        const auto leave = static_cast<std::size_t>(x - r);
-        a -= colA_[leave];
-        b -= colB_[leave];
-        c -= colC_[leave];
-        in -= colIn_[leave];
+        a -= colA[x - r];
+        b -= colB[x - r];
+        c -= colC[x - r];
     }
 }
 
-// NCC: window sums of image 1 (levels x 16) and of its squares for the band's pixels.
-void PlaneSweep::imageSums(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept {
+// NCC: window sum of image 1 (levels x 16) and its variance term n sum(i^2) - sum(i)^2
+// for the band's pixels (each term below 2^52: exact).
+void PlaneSweep::imageSums(std::int32_t y0, std::int32_t y1) noexcept {
     const std::int32_t r = radius_;
     const std::int32_t w = width_;
+    const auto nd = static_cast<double>(config_.window * config_.window);
+    const ColumnSums sums{colA_.data(), colB_.data(), colC_.data()};
+    for (std::int32_t x = 0; x < w; ++x) {
+        colA_[static_cast<std::size_t>(x)] = 0.0;
+        colB_[static_cast<std::size_t>(x)] = 0.0;
+        colC_[static_cast<std::size_t>(x)] = 0.0;
+    }
+    // The image-1 rows stand in for the warped ones: a = sum i, b = sum i^2.
+    auto i1 = [&](std::int32_t j) { return image1Rows_.data() + static_cast<std::ptrdiff_t>(j) * w; };
+    for (std::int32_t j = 0; j <= 2 * r; ++j) {
+        addRow<true>(i1(j), i1(j), w, sums);
+    }
     for (std::int32_t y = y0; y < y1; ++y) {
-        for (std::int32_t x = 0; x < w; ++x) {
-            std::int32_t s = 0;
-            std::int64_t ss = 0;
-            for (std::int32_t j = -r; j <= r; ++j) {
-                const std::int32_t v = static_cast<std::int32_t>(image1.row(y + j)[x]) << 4;
-                s += v;
-                ss += static_cast<std::int64_t>(v) * v;
-            }
-            colA_[static_cast<std::size_t>(x)] = static_cast<double>(s);   // < 2^21: exact
-            colB_[static_cast<std::size_t>(x)] = static_cast<double>(ss);  // < 2^37: exact
+        if (y > y0) {
+            const std::int32_t enter = y + r - (y0 - r);
+            slideRow<true>(i1(enter), i1(enter), i1(enter - 2 * r - 1), i1(enter - 2 * r - 1), w, sums);
         }
         const std::size_t rowBase = static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(w);
         double s = 0.0;
@@ -226,7 +262,7 @@ void PlaneSweep::imageSums(const ImageView<const std::uint16_t>& image1, std::in
             s += colA_[static_cast<std::size_t>(x) + static_cast<std::size_t>(r)];
             ss += colB_[static_cast<std::size_t>(x) + static_cast<std::size_t>(r)];
             sumI_[rowBase + static_cast<std::size_t>(x)] = s;
-            sumII_[rowBase + static_cast<std::size_t>(x)] = ss;
+            varI_[rowBase + static_cast<std::size_t>(x)] = nd * ss - s * s;
             s -= colA_[static_cast<std::size_t>(x - r)];
             ss -= colB_[static_cast<std::size_t>(x - r)];
         }
@@ -237,18 +273,19 @@ void PlaneSweep::sweepBand(const ImageView<const std::uint16_t>& image1, std::in
     const std::size_t n = static_cast<std::size_t>(y1 - y0) * static_cast<std::size_t>(width_);
     for (std::size_t i = 0; i < n; ++i) {
         bestIndex_[i] = -1;
-        bestCost_[i] = kNoCost;
-        prevCost_[i] = kNoCost;
-        belowCost_[i] = kNoCost;
-        aboveCost_[i] = kNoCost;
+        bestScore_[i] = kNoScore;
+        prevScore_[i] = kNoScore;
+        belowScore_[i] = kNoScore;
+        aboveScore_[i] = kNoScore;
         sumI_[i] = 0.0;
-        sumII_[i] = 0.0;
+        varI_[i] = 0.0;
     }
+    loadImage1Rows(image1, y0, y1);
     if (config_.score == Score::kNcc) {
-        imageSums(image1, y0, y1);
+        imageSums(y0, y1);
     }
     for (std::int32_t k = 0; k < config_.planes; ++k) {
-        scorePlane(image1, k, y0, y1);
+        scorePlane(k, y0, y1);
     }
 }
 
@@ -272,6 +309,21 @@ bool windowInsideForAllPlanes(const double* hNear, const double* hFar, double x,
         }
     }
     return true;
+}
+
+// A kept score as the cost the parabola and the score output use: SAD: the sum of
+// absolute differences; NCC: 1 - ncc (0 .. 2). kNoCost where there is no score.
+float costOf(float score, bool ncc) noexcept {
+    if (score == kNoScore) {
+        return kNoCost;
+    }
+    if (!ncc) {
+        return -score;
+    }
+    const double q = static_cast<double>(score);
+    const double value = q >= 0.0 ? std::sqrt(q) : -std::sqrt(-q);
+    const double oneMinus = 1.0 - value;
+    return static_cast<float>(oneMinus > 0.0 ? oneMinus : 0.0);
 }
 
 struct Decision {
@@ -312,6 +364,7 @@ void PlaneSweep::decideBand(const ImageView<const std::uint16_t>& image1, std::i
     const auto maxU = static_cast<double>(width_ - 1);
     const auto maxV = static_cast<double>(height_ - 1);
     const float sadScale = 1.0F / static_cast<float>(16 * config_.window * config_.window);
+    const bool ncc = config_.score == Score::kNcc;
     for (std::int32_t y = y0; y < y1; ++y) {
         for (std::int32_t x = 0; x < width_; ++x) {
             const std::size_t idx = static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(width_) +
@@ -328,12 +381,11 @@ void PlaneSweep::decideBand(const ImageView<const std::uint16_t>& image1, std::i
                 d.reason = Reason::kOutOfView;
             } else if ((un - uf) * (un - uf) + (vn - vf) * (vn - vf) < minParallax2) {
                 d.reason = Reason::kLowParallax;
-            } else if (config_.score == Score::kNcc && best < 0 &&
-                       static_cast<double>(config_.window * config_.window) * sumII_[idx] - sumI_[idx] * sumI_[idx] <=
-                           0.0) {
+            } else if (ncc && best < 0 && varI_[idx] <= 0.0) {
                 d.reason = Reason::kNoTexture;
             } else {
-                d = decide(best, config_.planes, belowCost_[idx], bestCost_[idx], aboveCost_[idx]);
+                d = decide(best, config_.planes, costOf(belowScore_[idx], ncc), costOf(bestScore_[idx], ncc),
+                           costOf(aboveScore_[idx], ncc));
             }
             float depth = kNaN;
             if (d.reason == Reason::kValid) {
@@ -345,10 +397,11 @@ void PlaneSweep::decideBand(const ImageView<const std::uint16_t>& image1, std::i
             ++stats.reason_counts[static_cast<std::int32_t>(d.reason)];
             out.depth_m.row(y)[x] = depth;
             if (out.score.data() != nullptr) {
-                const float cost = bestCost_[idx];
-                out.score.row(y)[x] = (best < 0 || x < r || x >= width_ - r)
-                                          ? kNaN
-                                          : (config_.score == Score::kSad ? cost * sadScale : cost);
+                // No score where the window left either image (its samples there are
+                // border stand-ins, warpRows()).
+                const float cost = costOf(bestScore_[idx], ncc);
+                const bool none = best < 0 || d.reason == Reason::kBorder || d.reason == Reason::kOutOfView;
+                out.score.row(y)[x] = none ? kNaN : (ncc ? cost : cost * sadScale);
             }
             if (out.reason.data() != nullptr) {
                 out.reason.row(y)[x] = static_cast<std::uint8_t>(d.reason);

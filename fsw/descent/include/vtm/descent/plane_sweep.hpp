@@ -97,7 +97,7 @@ struct PairGeometry {
 // Caller-provided outputs, image 1's size (score and reason may be empty views).
 struct SweepOutput {
     ImageView<float> depth_m;       // along camera 1's optical axis; NaN where reason != kValid
-    ImageView<float> score;         // best plane's cost (SAD: grey levels; NCC: 1 - ncc); NaN if none
+    ImageView<float> score;         // best plane's cost (SAD: grey levels; NCC: 1 - ncc); NaN if none or kBorder / kOutOfView
     ImageView<std::uint8_t> reason; // Reason
 };
 
@@ -154,11 +154,11 @@ private:
                                  const SweepOutput& out) noexcept;
     void prefilter(const ImageView<const std::uint16_t>& image2, double sigma_px) noexcept;
     void sweepBand(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept;
+    void loadImage1Rows(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept;
     void warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows) noexcept;
-    void scorePlane(const ImageView<const std::uint16_t>& image1, std::int32_t k, std::int32_t y0,
-                    std::int32_t y1) noexcept;
+    void scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1) noexcept;
     void scoreRow(std::int32_t k, std::int32_t bandRow) noexcept;
-    void imageSums(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept;
+    void imageSums(std::int32_t y0, std::int32_t y1) noexcept;
     void markRow(std::int32_t y, const SweepOutput& out, SweepStats& stats) noexcept;
     void decideBand(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1,
                     const SweepOutput& out, SweepStats& stats) noexcept;
@@ -174,8 +174,12 @@ private:
     Span<double> inverseDepth_{};  // planes, 1 / z_k (k = 0: depth_max_m)
     Span<std::uint16_t> image2_{}; // prefiltered image 2, grey x 16, width_ * height_ packed
     Span<std::int32_t> filterRow_{};   // prefilter: one row of the vertical pass
-    Span<std::uint16_t> warped_{};     // (band_rows + window - 1) rows of warped image 2
-    Span<std::uint8_t> inside_{};      // same layout: 1 where the sample lies inside image 2
+    // Image 1 (levels x 16) and the warped image 2 (levels x 16, 4 fractional bits of the
+    // bilinear weights) of the band plus the window's margin, (band_rows + window - 1) rows
+    // each, as floats: every value is an integer below 2^16, exact in a float, and loads
+    // into a floating-point register without the int-to-double sequence the 750 needs.
+    Span<float> image1Rows_{};
+    Span<float> warped_{};
     // The window sums are integers held in doubles: every one is below 2^52 (levels x 16 <
     // 2^16, window <= 31), so each sum, product and difference the score takes is exact,
     // the same values the int64 arithmetic gave, at one floating-point instruction each on
@@ -183,13 +187,15 @@ private:
     Span<double> colA_{};              // column sums: SAD, or sum of w (NCC)
     Span<double> colB_{};              // NCC: sum of w^2
     Span<double> colC_{};              // NCC: sum of i * w
-    Span<std::int32_t> colIn_{};       // samples inside image 2
     Span<double> sumI_{};              // NCC: window sums of image 1 (band), exact integers
-    Span<double> sumII_{};             // NCC: window sums of image 1 squared (band), exact integers
-    Span<float> bestCost_{};           // per band pixel
-    Span<float> prevCost_{};           // cost at the previous plane
-    Span<float> belowCost_{};          // cost at best - 1
-    Span<float> aboveCost_{};          // cost at best + 1
+    Span<double> varI_{};              // NCC: n * sum(i^2) - sum(i)^2 per band pixel, exact
+    // Per band pixel, the score to maximise (SAD: -sum |i - w|; NCC: ncc * |ncc|, which
+    // orders the planes as ncc does without a square root per pixel and plane); kNoScore
+    // where there is none.
+    Span<float> bestScore_{};
+    Span<float> prevScore_{};          // at the previous plane
+    Span<float> belowScore_{};         // at best - 1
+    Span<float> aboveScore_{};         // at best + 1
     Span<std::int16_t> bestIndex_{};   // -1: none yet
 };
 
