@@ -7,6 +7,8 @@
 
 #include "feature_limits.hpp"
 #include "floor_int.hpp"
+#include "polyline.hpp"
+#include "template_ncc.hpp"
 #include "vtm/core/image_pyramid.hpp"
 #include "vtm/core/math.hpp"
 
@@ -16,10 +18,13 @@ namespace {
 using detail::kMaxCapacityPx;
 using detail::kMaxWarpArea;
 using detail::kMaxWarpEntry;
-// Template samples are bilinear with weights quantised to 1/kWeightOne, and stored in
-// 1/kWeightOne grey levels (uint16, at most 255 * 256): all NCC sums stay exact integers.
-constexpr std::int32_t kWeightShift = 8;
-constexpr std::int32_t kWeightOne = 1 << kWeightShift;
+using detail::kWeightOne;
+using detail::kWeightShift;
+using detail::ncc;
+using detail::nearestVertex;
+static_assert(kRaySamples <= detail::kMaxPolylineVertices, "the ray's polyline must fit PolylineScan");
+using detail::Pos;
+using detail::Template;
 // Step along the plane for the finite-difference Jacobians, relative to the range (the
 // projection is smooth: only the ratio of the two Jacobians matters).
 constexpr double kPlaneStepRel = 0.01;
@@ -77,23 +82,6 @@ struct SearchResult {
     Affine2 warp{};  // the warp of the template that won at full resolution
 };
 
-struct Pos {
-    std::int32_t x;
-    std::int32_t y;
-};
-
-// Sums (exact integers) of a template's values.
-struct TemplateSums {
-    std::int64_t sum = 0;
-    std::int64_t sum_sq = 0;
-};
-
-// A warped template: (2 half + 1)^2 values, row-major, in 1/kWeightOne grey levels.
-struct Template {
-    const std::uint16_t* values = nullptr;
-    TemplateSums sums{};
-};
-
 std::int32_t roundToInt(double v) noexcept { return detail::floorToInt(v + 0.5); }
 
 // Pixel centre convention: level-l pixel i averages level-(l-1) pixels 2i, 2i+1.
@@ -142,49 +130,12 @@ Template buildTemplate(const ImageView<const std::uint8_t>& img, Pos centre, con
     for (std::int32_t dy = -half; dy <= half; ++dy) {
         for (std::int32_t dx = -half; dx <= half; ++dx) {
             const Vec2 off = apply(inv, Vec2(static_cast<double>(dx), static_cast<double>(dy)));
-            const std::uint16_t v =
-                sampleBilinear(img, static_cast<double>(centre.x) + off.x(), static_cast<double>(centre.y) + off.y());
-            dst[i] = v;
+            dst[i] = sampleBilinear(img, static_cast<double>(centre.x) + off.x(), static_cast<double>(centre.y) + off.y());
             ++i;
-            t.sums.sum += v;
-            t.sums.sum_sq += static_cast<std::int64_t>(v) * v;
         }
     }
+    detail::setTemplateSums(t, half);
     return t;
-}
-
-// NCC of template `t` with the window around `b` in `to` (which must fit). 0 when either
-// is flat (correlation undefined).
-// A row's sums fit 32 bits (at most 31 products of 255 * 256 by 255: 5.2e8 < 2^32), so the
-// inner loop multiplies in 32 bits, which 32-bit targets do in one instruction, and only
-// the row totals are added in 64: the same integers as 64-bit sums throughout.
-double ncc(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept {
-    static_assert(31U * (255U * kWeightOne) * 255U < 0xFFFFFFFFU, "a row's sum of products must fit 32 bits");
-    std::int64_t sb = 0, sbb = 0, sab = 0;
-    const std::uint16_t* ta = t.values;
-    for (std::int32_t dy = -half; dy <= half; ++dy) {
-        const std::uint8_t* rb = to.row(b.y + dy) + b.x;
-        std::uint32_t row_b = 0U, row_bb = 0U, row_ab = 0U;
-        for (std::int32_t dx = -half; dx <= half; ++dx) {
-            const std::uint32_t va = *ta;
-            const std::uint32_t vb = rb[dx];
-            ++ta;
-            row_b += vb;
-            row_bb += vb * vb;
-            row_ab += va * vb;
-        }
-        sb += row_b;
-        sbb += row_bb;
-        sab += row_ab;
-    }
-    const std::int64_t n = static_cast<std::int64_t>(2 * half + 1) * (2 * half + 1);
-    const std::int64_t var_a = n * t.sums.sum_sq - t.sums.sum * t.sums.sum;
-    const std::int64_t var_b = n * sbb - sb * sb;
-    if (var_a <= 0 || var_b <= 0) {
-        return 0.0;
-    }
-    const std::int64_t cov = n * sab - t.sums.sum * sb;
-    return static_cast<double>(cov) / math::sqrt(static_cast<double>(var_a) * static_cast<double>(var_b));
 }
 
 // Local affine map from `from`-pixel offsets to `to`-pixel offsets induced by the plane
@@ -385,53 +336,6 @@ void predictSamples(const Geometry& g, const Vec2& pixel, RaySamples& rs) noexce
     }
 }
 
-// Index of the vertex of poly[0..n) nearest to p (the ray sample whose template is used
-// at p; the first of equal distances).
-std::int32_t nearestVertex(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept {
-    double best = (p - poly[0]).squaredNorm();
-    std::int32_t vertex = 0;
-    for (std::int32_t i = 1; i < n; ++i) {
-        const double dv = (p - poly[i]).squaredNorm();
-        if (dv < best) {
-            best = dv;
-            vertex = i;
-        }
-    }
-    return vertex;
-}
-
-// Whether p is within the squared distance limit_sq of the polyline poly[0..n): its first
-// vertex or some segment (closest point by the clamped projection) is. A segment whose
-// bounding box lies farther than that, with a guard far above rounding (1e-6 relative),
-// cannot be and is not projected on: most positions of a search region are far from most
-// segments. A NaN distance to the first vertex counts as within, a NaN segment as not.
-bool withinPolyline(const Vec2& p, const Vec2* poly, std::int32_t n, double limit_sq) noexcept {
-    if (!((p - poly[0]).squaredNorm() > limit_sq)) {
-        return true;
-    }
-    const double guard = limit_sq * (1.0 + 1e-6) + 1e-9;
-    for (std::int32_t i = 1; i < n; ++i) {
-        const Vec2& a = poly[i - 1];
-        const Vec2& b = poly[i];
-        const double gx = std::max({0.0, std::min(a.x(), b.x()) - p.x(), p.x() - std::max(a.x(), b.x())});
-        const double gy = std::max({0.0, std::min(a.y(), b.y()) - p.y(), p.y() - std::max(a.y(), b.y())});
-        if (gx * gx + gy * gy > guard) {
-            continue;
-        }
-        const Vec2 d = b - a;
-        const double len2 = d.squaredNorm();
-        double s = 0.0;
-        if (len2 > 0.0) {
-            s = std::clamp((p - a).dot(d) / len2, 0.0, 1.0);
-        }
-        const Vec2 q = a + s * d;
-        if ((p - q).squaredNorm() <= limit_sq) {
-            return true;
-        }
-    }
-    return false;
-}
-
 // The level-`level` bounding box of the widened polyline, clipped to the positions where
 // the template fits in `to`. Empty when lo > hi.
 struct Box {
@@ -505,26 +409,41 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
         return best;
     }
     const std::int32_t step = regionStride(box);
-    const double margin_sq = margin * margin;
+    // detail::withinPolyline / nearestVertex, row by row (the same answers).
+    detail::PolylineScan scan;
+    scan.set(poly, rs.n, margin * margin);
     for (std::int32_t y = box.lo.y; y <= box.hi.y; y += step) {
+        scan.row(static_cast<double>(y));
         for (std::int32_t x = box.lo.x; x <= box.hi.x; x += step) {
-            const Vec2 p = toVec(Pos{x, y});
-            if (!withinPolyline(p, poly, rs.n, margin_sq)) {
+            const auto xd = static_cast<double>(x);
+            if (!scan.within(xd)) {
                 continue;
             }
-            const std::int32_t vertex = nearestVertex(p, poly, rs.n);
+            const std::int32_t vertex = scan.nearest(xd);
+            // The templates of the sample's hypotheses (kWarpHypotheses at most), then the
+            // window's sums and its products with each in one pass; the square root only
+            // where the score may beat the best (detail::mayExceed: the same best).
+            const Template* templates[kWarpHypotheses];
             for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
-                const std::int32_t k_index = h * kRaySamples + vertex;
-                const auto k = static_cast<std::size_t>(k_index);
+                const auto k = static_cast<std::size_t>(h * kRaySamples + vertex);
                 if (!bank.built[k]) {
                     bank.coarse[k] = buildTemplate(*v.from, v.a, rs.unwarp[k], v.half, bank.storage + k * bank.stride);
                     bank.built[k] = true;
                 }
-                const double s = ncc(bank.coarse[k], *v.to, Pos{x, y}, v.half);
+                templates[h] = &bank.coarse[k];
+            }
+            double cross[kWarpHypotheses] = {};
+            const detail::WindowStats window =
+                detail::windowAndCrossSums(templates, rs.hypotheses, *v.to, Pos{x, y}, v.half, cross);
+            for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
+                if (!detail::mayExceed(*templates[h], window, cross[h], v.half, best.score)) {
+                    continue;
+                }
+                const double s = detail::nccFromSums(*templates[h], window, cross[h], v.half);
                 if (s > best.score) {
                     best.score = s;
                     best.pos = Pos{x, y};
-                    best.sample = k_index;
+                    best.sample = h * kRaySamples + vertex;
                 }
             }
             ++best.evaluated;
@@ -543,8 +462,14 @@ Best localSearch(const Template& t, const ImageView<const std::uint8_t>& to, Pos
             if (!templateFits(to, Pos{x, y}, half)) {
                 continue;
             }
-            const double s = ncc(t, to, Pos{x, y}, half);
             ++best.evaluated;
+            const Template* one[1] = {&t};
+            double cross = 0.0;
+            const detail::WindowStats window = detail::windowAndCrossSums(one, 1, to, Pos{x, y}, half, &cross);
+            if (!detail::mayExceed(t, window, cross, half, best.score)) {
+                continue;
+            }
+            const double s = detail::nccFromSums(t, window, cross, half);
             if (s > best.score) {
                 best.score = s;
                 best.pos = Pos{x, y};

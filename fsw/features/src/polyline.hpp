@@ -1,0 +1,53 @@
+// The template matcher's search region (private to fsw/features): the image of A's ray in
+// B as a polyline of its samples, and for a position of B which sample is nearest and
+// whether it lies within the matching margin. PolylineScan answers both for the positions
+// of one row at a time, with the same bits as the plain functions and far fewer
+// operations: the coarse scan asks them of every position of the region's bounding box.
+#pragma once
+
+#include <cstdint>
+
+#include "vtm/core/eigen.hpp"
+
+namespace vtm::features::detail {
+
+// The most vertices a polyline has (the matcher's ray samples).
+constexpr std::int32_t kMaxPolylineVertices = 33;
+
+// Index of the vertex of poly[0..n) nearest to p (the first of equal distances).
+[[nodiscard]] std::int32_t nearestVertex(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept;
+
+// Whether p is within the squared distance limit_sq of the polyline poly[0..n): its first
+// vertex or some segment (closest point by the clamped projection) is. A segment whose
+// bounding box lies farther than that, with a guard far above rounding (1e-6 relative),
+// cannot be and is not projected on. A NaN distance to the first vertex counts as within,
+// a NaN segment as not.
+[[nodiscard]] bool withinPolyline(const Vec2& p, const Vec2* poly, std::int32_t n, double limit_sq) noexcept;
+
+// nearestVertex() and withinPolyline() for the positions (x, y) of one row y: set() once
+// per polyline (n <= kMaxPolylineVertices), row() once per row, then nearest(x) and
+// within(x) return exactly what the functions return for (x, y). A row keeps only the
+// segments whose bounding box comes within the guard of it, each with the x interval
+// outside which it cannot be within; the distances to the vertices reuse the row's
+// (y - v.y)^2 and skip a vertex whose row term alone is no nearer.
+class PolylineScan {
+public:
+    void set(const Vec2* poly, std::int32_t n, double limit_sq) noexcept;
+    void row(double y) noexcept;
+    [[nodiscard]] bool within(double x) const noexcept;
+    [[nodiscard]] std::int32_t nearest(double x) const noexcept;
+
+private:
+    const Vec2* poly_ = nullptr;
+    std::int32_t n_ = 0;
+    double limit_sq_ = 0.0;
+    double guard_ = 0.0;
+    double y_ = 0.0;
+    double lo_[kMaxPolylineVertices] = {};   // segment i (poly[i-1], poly[i]): x interval, widened
+    double hi_[kMaxPolylineVertices] = {};
+    double dy2_[kMaxPolylineVertices] = {};  // this row: (y - poly[i].y)^2
+    std::int32_t active_[kMaxPolylineVertices] = {};
+    std::int32_t active_count_ = 0;
+};
+
+}  // namespace vtm::features::detail

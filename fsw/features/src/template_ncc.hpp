@@ -1,0 +1,59 @@
+// Normalised correlation of a warped template with windows of an 8-bit image (private to
+// fsw/features; the template matcher's score). Every sum is an exact integer: the window's
+// in 32 bits where it fits, the variances and the covariance in doubles (each below 2^53),
+// so the scores are the same bits on every target and the same as int64 arithmetic gave.
+#pragma once
+
+#include <cstdint>
+
+#include "vtm/core/image.hpp"
+
+namespace vtm::features::detail {
+
+// Template samples are bilinear with weights quantised to 1/kWeightOne, and stored in
+// 1/kWeightOne grey levels (uint16, at most 255 * 256): all NCC sums stay exact integers.
+constexpr std::int32_t kWeightShift = 8;
+constexpr std::int32_t kWeightOne = 1 << kWeightShift;
+
+struct Pos {
+    std::int32_t x;
+    std::int32_t y;
+};
+
+// A warped template: (2 half + 1)^2 values, row-major, in 1/kWeightOne grey levels, and
+// its sums (setTemplateSums).
+struct Template {
+    const std::uint16_t* values = nullptr;
+    double sum = 0.0;  // sum of the values
+    double var = 0.0;  // n sum(v^2) - sum^2, n = (2 half + 1)^2; 0 for a flat template
+};
+
+// The window of `to` around a position: its sum and n sum(b^2) - sum^2.
+struct WindowStats {
+    double sum = 0.0;
+    double var = 0.0;
+};
+
+// Fills t.sum and t.var from t.values.
+void setTemplateSums(Template& t, std::int32_t half) noexcept;
+
+// The window around b (which must fit) and its sums of products with `count` (1 or 2)
+// templates, in one pass over the window: cross[i] for templates[i].
+[[nodiscard]] WindowStats windowAndCrossSums(const Template* const* templates, std::int32_t count,
+                                             const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half,
+                                             double* cross) noexcept;
+
+// The NCC from the sums; 0 when the template or the window is flat (undefined).
+[[nodiscard]] double nccFromSums(const Template& t, const WindowStats& w, double cross, std::int32_t half) noexcept;
+
+// False only when the NCC from these sums is certainly not above `best` (always true for
+// a negative best): a test
+// without the square root, with a margin far above the rounding of either side, so a
+// search that skips nccFromSums() when it is false keeps the same best.
+[[nodiscard]] bool mayExceed(const Template& t, const WindowStats& w, double cross, std::int32_t half,
+                             double best) noexcept;
+
+// NCC of the template with the window around b (which must fit).
+[[nodiscard]] double ncc(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept;
+
+}  // namespace vtm::features::detail

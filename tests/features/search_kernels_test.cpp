@@ -1,0 +1,114 @@
+// The template matcher's fast search kernels against their plain forms in the same run:
+// PolylineScan against nearestVertex / withinPolyline, and the NCC pruning (mayExceed)
+// against the score it skips. Both must give the same answers bit for bit, or the matches
+// (and every product downstream) would change.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "polyline.hpp"
+#include "template_ncc.hpp"
+#include "vtm/core/random.hpp"
+
+namespace {
+
+using vtm::Random;
+using vtm::Vec2;
+using namespace vtm::features::detail;
+
+// A polyline like a ray's image: samples along a line through the region, slightly bent,
+// some vertices repeated (a ray sample can project twice to the same pixel).
+std::vector<Vec2> rayLike(Random& rng, std::int32_t n) {
+    const Vec2 start(rng.uniform01() * 200.0, rng.uniform01() * 200.0);
+    const Vec2 dir(rng.uniform01() * 2.0 - 1.0, rng.uniform01() * 2.0 - 1.0);
+    std::vector<Vec2> poly;
+    for (std::int32_t i = 0; i < n; ++i) {
+        const double t = 6.0 * i;
+        const double bend = 0.002 * t * t;
+        poly.push_back(start + t * dir + Vec2(-dir.y(), dir.x()) * bend);
+        if (rng.uniform01() < 0.1 && i + 1 < n) {
+            poly.push_back(poly.back());
+            ++i;
+        }
+    }
+    return poly;
+}
+
+TEST(PolylineScan, GivesTheSameVertexAndMembershipAsThePlainFunctions) {
+    Random rng(2026);
+    std::int64_t within = 0, tested = 0;
+    for (std::int32_t trial = 0; trial < 60; ++trial) {
+        const std::int32_t n = 1 + static_cast<std::int32_t>(rng.uniformInt(0, kMaxPolylineVertices - 1));
+        const std::vector<Vec2> poly = rayLike(rng, n);
+        const double margin = 2.0 + rng.uniform01() * 40.0;
+        PolylineScan scan;
+        scan.set(poly.data(), static_cast<std::int32_t>(poly.size()), margin * margin);
+        for (std::int32_t y = -20; y < 240; y += 3) {
+            scan.row(static_cast<double>(y));
+            for (std::int32_t x = -20; x < 240; x += 2) {
+                const Vec2 p(x, y);
+                const auto m = static_cast<std::int32_t>(poly.size());
+                const bool w = withinPolyline(p, poly.data(), m, margin * margin);
+                ASSERT_EQ(scan.within(p.x()), w) << "trial " << trial << " at " << x << ", " << y;
+                ASSERT_EQ(scan.nearest(p.x()), nearestVertex(p, poly.data(), m))
+                    << "trial " << trial << " at " << x << ", " << y;
+                within += w ? 1 : 0;
+                ++tested;
+            }
+        }
+    }
+    // Both answers were exercised.
+    EXPECT_GT(within, tested / 20);
+    EXPECT_LT(within, tested - tested / 20);
+}
+
+TEST(TemplateNcc, PruningNeverSkipsAScoreAboveTheBestAndTheKernelsAgree) {
+    Random rng(7);
+    constexpr std::int32_t kSize = 64;
+    std::vector<std::uint8_t> img(kSize * kSize);
+    for (auto& v : img) {
+        v = static_cast<std::uint8_t>(rng.uniformInt(0, 255));
+    }
+    const vtm::ImageView<const std::uint8_t> to(img.data(), kSize, kSize, kSize);
+    std::int64_t pruned = 0, missed = 0;
+    for (const std::int32_t half : {1, 5, 7, 8, 15}) {
+        const std::int32_t side = 2 * half + 1;
+        std::vector<std::uint16_t> values(static_cast<std::size_t>(side * side));
+        std::vector<std::uint16_t> values2(values.size());
+        const Pos at{kSize / 2, kSize / 2};
+        for (std::int32_t i = 0; i < side * side; ++i) {
+            // A template like a shifted copy of the window plus noise, in 1/256 levels.
+            const std::int32_t dy = i / side - half, dx = i % side - half;
+            const std::int32_t v = to.row(at.y + dy)[at.x + dx] + static_cast<std::int32_t>(rng.uniformInt(-40, 40));
+            values[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>((v < 0 ? 0 : (v > 255 ? 255 : v)) * 256);
+            values2[static_cast<std::size_t>(i)] = static_cast<std::uint16_t>(rng.uniformInt(0, 255 * 256));
+        }
+        Template t{values.data()}, u{values2.data()};
+        setTemplateSums(t, half);
+        setTemplateSums(u, half);
+        const Template* both[2] = {&t, &u};
+        for (std::int32_t y = half; y < kSize - half; ++y) {
+            for (std::int32_t x = half; x < kSize - half; ++x) {
+                double cross[2] = {};
+                const WindowStats w = windowAndCrossSums(both, 2, to, Pos{x, y}, half, cross);
+                const double s = nccFromSums(t, w, cross[0], half);
+                ASSERT_EQ(s, ncc(t, to, Pos{x, y}, half));  // the one- and two-template passes
+                ASSERT_EQ(nccFromSums(u, w, cross[1], half), ncc(u, to, Pos{x, y}, half));
+                for (const double best : {-0.5, 0.0, 0.1, 0.5, s, s * (1.0 - 1e-15), 0.99}) {
+                    const bool may = mayExceed(t, w, cross[0], half, best);
+                    if (s > best) {
+                        ASSERT_TRUE(may) << "half " << half << " score " << s << " best " << best;
+                    }
+                    pruned += may ? 0 : 1;
+                    // Clearly below a best >= 0: the square root is not needed.
+                    missed += (may && best >= 0.0 && s < best - 1e-6) ? 1 : 0;
+                }
+            }
+        }
+    }
+    EXPECT_GT(pruned, 0);
+    EXPECT_EQ(missed, 0);  // every score clearly below a best >= 0 is pruned
+}
+
+}  // namespace
