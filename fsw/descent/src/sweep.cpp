@@ -29,15 +29,18 @@ struct ColumnSums {
 // value is an integer below 2^32: exact in double.
 template <bool kNcc>
 void addRow(const float* i1, const float* w2, std::int32_t width, const ColumnSums& sums) noexcept {
+    double* const colA = sums.a;
+    double* const colB = sums.b;
+    double* const colC = sums.c;
     for (std::int32_t x = 0; x < width; ++x) {
         const double i = static_cast<double>(i1[x]);
         const double w = static_cast<double>(w2[x]);
         if constexpr (kNcc) {
-            sums.a[x] += w;
-            sums.b[x] += w * w;
-            sums.c[x] += i * w;
+            colA[x] += w;
+            colB[x] += w * w;
+            colC[x] += i * w;
         } else {
-            sums.a[x] += std::fabs(i - w);
+            colA[x] += std::fabs(i - w);
         }
     }
 }
@@ -47,18 +50,102 @@ void addRow(const float* i1, const float* w2, std::int32_t width, const ColumnSu
 template <bool kNcc>
 void slideRow(const float* i1, const float* w2, const float* o1, const float* ow, std::int32_t width,
               const ColumnSums& sums) noexcept {
+    double* const colA = sums.a;
+    double* const colB = sums.b;
+    double* const colC = sums.c;
     for (std::int32_t x = 0; x < width; ++x) {
         const double i = static_cast<double>(i1[x]);
         const double w = static_cast<double>(w2[x]);
         const double io = static_cast<double>(o1[x]);
         const double wo = static_cast<double>(ow[x]);
         if constexpr (kNcc) {
-            sums.a[x] += w - wo;
-            sums.b[x] += w * w - wo * wo;
-            sums.c[x] += i * w - io * wo;
+            colA[x] += w - wo;
+            colB[x] += w * w - wo * wo;
+            colC[x] += i * w - io * wo;
         } else {
-            sums.a[x] += std::fabs(i - w) - std::fabs(io - wo);
+            colA[x] += std::fabs(i - w) - std::fabs(io - wo);
         }
+    }
+}
+
+// The per-pixel state of a band row (plane_sweep.hpp, bestScore_ ...), as pointers to its
+// first pixel.
+struct RowState {
+    const double* sumI;  // NCC: image 1's window sums and variances
+    const double* varI;
+    float* best;
+    float* prev;
+    float* below;
+    float* above;
+    std::int16_t* index;
+};
+
+// Plane k's score at pixel x: the best so far, or the best's upper neighbour; and the
+// previous plane's score for the next plane.
+inline void keepScore(const RowState& st, std::int32_t x, std::int32_t k, float score) noexcept {
+    const std::int16_t best = st.index[x];
+    if (best < 0 || score > st.best[x]) {
+        st.below[x] = st.prev[x];
+        st.above[x] = kNoScore;
+        st.best[x] = score;
+        st.index[x] = static_cast<std::int16_t>(k);
+    } else if (best == k - 1) {
+        st.above[x] = score;
+    }
+    st.prev[x] = score;
+}
+
+// The window sums along a row from the column sums: a, b, c at the first pixel r.
+struct WindowRun {
+    double a = 0.0, b = 0.0, c = 0.0;
+};
+WindowRun startRun(const ColumnSums& cols, std::int32_t r) noexcept {
+    WindowRun run;
+    for (std::int32_t x = 0; x < 2 * r; ++x) {
+        run.a += cols.a[x];
+        run.b += cols.b[x];
+        run.c += cols.c[x];
+    }
+    return run;
+}
+
+// SAD: the score is minus the window's sum of absolute differences.
+void scoreRowSad(const ColumnSums& cols, std::int32_t r, std::int32_t w, std::int32_t k,
+                 const RowState& st) noexcept {
+    const double* colA = cols.a;
+    double a = startRun(cols, r).a;
+    for (std::int32_t x = r; x < w - r; ++x) {
+        a += colA[x + r];
+        keepScore(st, x, k, -static_cast<float>(a));
+        a -= colA[x - r];
+    }
+}
+
+// NCC: the score is ncc * |ncc| = cov |cov| / (varI varW), the planes' order without a
+// square root; none where image 1 is flat.
+void scoreRowNcc(const ColumnSums& cols, double n, std::int32_t r, std::int32_t w, std::int32_t k,
+                 const RowState& st) noexcept {
+    const double* sumI = st.sumI;
+    const double* varI = st.varI;
+    const double* colA = cols.a;
+    const double* colB = cols.b;
+    const double* colC = cols.c;
+    WindowRun run = startRun(cols, r);
+    double a = run.a, b = run.b, c = run.c;
+    for (std::int32_t x = r; x < w - r; ++x) {
+        a += colA[x + r];
+        b += colB[x + r];
+        c += colC[x + r];
+        if (varI[x] > 0.0) {
+            const double varW = n * b - a * a;
+            const double cov = n * c - sumI[x] * a;
+            keepScore(st, x, k, varW > 0.0 ? static_cast<float>(cov * std::fabs(cov) / (varI[x] * varW)) : 0.0F);
+        } else {
+            st.prev[x] = kNoScore;  // image 1 flat here: no score at any plane
+        }
+        a -= colA[x - r];
+        b -= colB[x - r];
+        c -= colC[x - r];
     }
 }
 
@@ -100,8 +187,10 @@ void PlaneSweep::warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows
         const double by = s * (h[4] * y + h[5]);
         const double bw = h[7] * y + h[8];
         float* out = warped_.data() + static_cast<std::ptrdiff_t>(j) * w;
-        double xd = 0.0;  // x as a double without a conversion per pixel (exact)
-        for (std::int32_t x = 0; x < w; ++x, xd += 1.0) {
+        double xNext = 0.0;  // x as a double without a conversion per pixel (exact)
+        for (std::int32_t x = 0; x < w; ++x) {
+            const double xd = xNext;
+            xNext += 1.0;
             const double W = h[6] * xd + bw;
             if (!(W > 0.0)) {
                 out[x] = 0.0F;
@@ -165,67 +254,17 @@ void PlaneSweep::scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1) no
 }
 
 void PlaneSweep::scoreRow(std::int32_t k, std::int32_t bandRow) noexcept {
-    const std::int32_t r = radius_;
-    const std::int32_t w = width_;
-    const auto nd = static_cast<double>(config_.window * config_.window);
-    const bool ncc = config_.score == Score::kNcc;
-    // Raw pointers into the spans, taken once (the loop's bounds keep every index inside:
+    // Raw pointers into the spans, taken once (the loops' bounds keep every index inside:
     // columns 0..w-1, the band row's pixels r..w-r-1).
-    const double* colA = colA_.data();
-    const double* colB = colB_.data();
-    const double* colC = colC_.data();
-    const std::ptrdiff_t rowBase = static_cast<std::ptrdiff_t>(bandRow) * w;
-    const double* sumI = sumI_.data() + rowBase;
-    const double* varI = varI_.data() + rowBase;
-    float* bestScore = bestScore_.data() + rowBase;
-    float* prevScore = prevScore_.data() + rowBase;
-    float* belowScore = belowScore_.data() + rowBase;
-    float* aboveScore = aboveScore_.data() + rowBase;
-    std::int16_t* bestIndex = bestIndex_.data() + rowBase;
-    // A plane's score at pixel x: the best so far, or the best's upper neighbour; and the
-    // previous plane's for the next one.
-    auto keep = [&](std::int32_t x, float score) {
-        const std::int16_t best = bestIndex[x];
-        if (best < 0 || score > bestScore[x]) {
-            belowScore[x] = prevScore[x];
-            aboveScore[x] = kNoScore;
-            bestScore[x] = score;
-            bestIndex[x] = static_cast<std::int16_t>(k);
-        } else if (best == k - 1) {
-            aboveScore[x] = score;
-        }
-        prevScore[x] = score;
-    };
-    // Exact integers (plane_sweep.hpp, colA_): the same values as in int64.
-    double a = 0.0, b = 0.0, c = 0.0;
-    for (std::int32_t x = 0; x < 2 * r; ++x) {
-        a += colA[x];
-        b += colB[x];
-        c += colC[x];
-    }
-    if (!ncc) {
-        for (std::int32_t x = r; x < w - r; ++x) {
-            a += colA[x + r];
-            keep(x, -static_cast<float>(a));
-            a -= colA[x - r];
-        }
-        return;
-    }
-    for (std::int32_t x = r; x < w - r; ++x) {
-        a += colA[x + r];
-        b += colB[x + r];
-        c += colC[x + r];
-        if (varI[x] > 0.0) {
-            // ncc * |ncc| = cov |cov| / (varI varW): the planes' order without a sqrt.
-            const double varW = nd * b - a * a;
-            const double cov = nd * c - sumI[x] * a;
-            keep(x, varW > 0.0 ? static_cast<float>(cov * std::fabs(cov) / (varI[x] * varW)) : 0.0F);
-        } else {
-            prevScore[x] = kNoScore;  // image 1 flat here: no score at any plane
-        }
-        a -= colA[x - r];
-        b -= colB[x - r];
-        c -= colC[x - r];
+    const std::ptrdiff_t rowBase = static_cast<std::ptrdiff_t>(bandRow) * width_;
+    const ColumnSums cols{colA_.data(), colB_.data(), colC_.data()};
+    const RowState st{sumI_.data() + rowBase,       varI_.data() + rowBase,       bestScore_.data() + rowBase,
+                      prevScore_.data() + rowBase,  belowScore_.data() + rowBase, aboveScore_.data() + rowBase,
+                      bestIndex_.data() + rowBase};
+    if (config_.score == Score::kNcc) {
+        scoreRowNcc(cols, static_cast<double>(config_.window * config_.window), radius_, width_, k, st);
+    } else {
+        scoreRowSad(cols, radius_, width_, k, st);
     }
 }
 

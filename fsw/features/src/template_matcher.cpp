@@ -425,7 +425,7 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
             // where the score may beat the best (detail::mayExceed: the same best).
             const Template* templates[kWarpHypotheses];
             for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
-                const auto k = static_cast<std::size_t>(h * kRaySamples + vertex);
+                const std::size_t k = static_cast<std::size_t>(h) * std::size_t{kRaySamples} + static_cast<std::size_t>(vertex);
                 if (!bank.built[k]) {
                     bank.coarse[k] = buildTemplate(*v.from, v.a, rs.unwarp[k], v.half, bank.storage + k * bank.stride);
                     bank.built[k] = true;

@@ -10,7 +10,7 @@ namespace {
 // most 255 * 256 by 255: 3.75e9 < 2^32). Wider windows add their rows' sums in 64 bits
 // (a row of 31 fits 32 bits: 5.2e8).
 constexpr std::int32_t kMaxWindow32 = 15;
-static_assert(std::uint64_t{kMaxWindow32} * kMaxWindow32 * (255U * kWeightOne) * 255U < 0xFFFFFFFFULL,
+static_assert(std::uint64_t{kMaxWindow32} * kMaxWindow32 * (std::uint64_t{255U} * kWeightOne) * 255U < 0xFFFFFFFFULL,
               "the window's sum of products must fit 32 bits");
 static_assert(31U * (255U * kWeightOne) * 255U < 0xFFFFFFFFU, "a row's sum of products must fit 32 bits");
 
