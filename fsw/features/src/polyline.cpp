@@ -2,6 +2,8 @@
 #include "polyline.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "vtm/core/math.hpp"
 
@@ -74,11 +76,27 @@ void PolylineScan::set(const Vec2* poly, std::int32_t n, double limit_sq) noexce
         hi_[i] = std::max(poly[i - 1].x(), poly[i].x()) + reach;
     }
     active_count_ = 0;
+    last_hit_ = 0;
+    hint_ = 0;
+    // The vertices by x (insertion sort, at most 33; ties by index).
+    finite_ = true;
+    for (std::int32_t i = 0; i < n_; ++i) {
+        finite_ = finite_ && std::isfinite(poly[i].x()) && std::isfinite(poly[i].y());
+        std::int32_t j = i;
+        while (j > 0 && sorted_x_[j - 1] > poly[i].x()) {  // bound: j <= i < 33
+            sorted_x_[j] = sorted_x_[j - 1];
+            by_x_[j] = by_x_[j - 1];
+            --j;
+        }
+        sorted_x_[j] = poly[i].x();
+        by_x_[j] = i;
+    }
 }
 
 void PolylineScan::row(double y) noexcept {
     y_ = y;
     active_count_ = 0;
+    last_hit_ = 0;
     for (std::int32_t i = 0; i < n_; ++i) {
         const double dy = y - poly_[i].y();
         dy2_[i] = dy * dy;
@@ -93,7 +111,7 @@ void PolylineScan::row(double y) noexcept {
     }
 }
 
-bool PolylineScan::within(double x) const noexcept {
+bool PolylineScan::within(double x) noexcept {
     if (n_ == 0) {
         return false;
     }
@@ -102,31 +120,73 @@ bool PolylineScan::within(double x) const noexcept {
         return true;
     }
     const Vec2 p(x, y_);
+    // Any segment that holds p answers true, so the order of the tests does not matter:
+    // the last one that held a position of this row first (usually the same segment).
+    const std::int32_t last = last_hit_;
+    if (last > 0 && x >= lo_[last] && x <= hi_[last] && segmentWithin(p, poly_[last - 1], poly_[last], limit_sq_, guard_)) {
+        return true;
+    }
     for (std::int32_t k = 0; k < active_count_; ++k) {
         const std::int32_t i = active_[k];
-        if (x >= lo_[i] && x <= hi_[i] && segmentWithin(p, poly_[i - 1], poly_[i], limit_sq_, guard_)) {
+        if (i != last && x >= lo_[i] && x <= hi_[i] && segmentWithin(p, poly_[i - 1], poly_[i], limit_sq_, guard_)) {
+            last_hit_ = i;
             return true;
         }
     }
     return false;
 }
 
-std::int32_t PolylineScan::nearest(double x) const noexcept {
+std::int32_t PolylineScan::nearest(double x) noexcept {
     if (n_ == 0) {
         return 0;
     }
-    const double dx0 = x - poly_[0].x();
-    double best = dx0 * dx0 + dy2_[0];
-    std::int32_t vertex = 0;
-    for (std::int32_t i = 1; i < n_; ++i) {
-        if (!(dy2_[i] < best)) {
-            continue;  // dx^2 + dy^2 >= dy^2 >= best after rounding too: not nearer
-        }
+    if (!finite_) {
+        return nearestVertex(Vec2(x, y_), poly_, n_);
+    }
+    // Outwards from x through the vertices sorted by x: on each side (x - v.x)^2 only grows,
+    // and dx^2 + dy^2 >= dx^2 after rounding too, so a side ends where dx^2 > best.
+    // hi: the first sorted vertex with x >= the position, found from the last call's
+    // (the scan moves along a row: usually no step or one).
+    std::int32_t hi = hint_;
+    while (hi > 0 && sorted_x_[hi - 1] >= x) {  // bound: n_ <= 33
+        --hi;
+    }
+    while (hi < n_ && sorted_x_[hi] < x) {  // bound: n_ <= 33
+        ++hi;
+    }
+    hint_ = hi;
+    std::int32_t lo = hi - 1;
+    double best = std::numeric_limits<double>::infinity();
+    std::int32_t vertex = n_;
+    auto consider = [&](std::int32_t s, bool& go) {
+        const std::int32_t i = by_x_[s];
         const double dx = x - poly_[i].x();
-        const double dv = dx * dx + dy2_[i];
-        if (dv < best) {
+        const double dx2 = dx * dx;
+        if (dx2 > best) {
+            go = false;
+            return;
+        }
+        if (!(dy2_[i] <= best)) {
+            return;  // dy^2 alone is farther
+        }
+        const double dv = dx2 + dy2_[i];
+        if (dv < best || (dv == best && i < vertex)) {
             best = dv;
             vertex = i;
+        }
+    };
+    bool goLo = lo >= 0;
+    bool goHi = hi < n_;
+    while (goLo || goHi) {  // bound: each step moves lo down or hi up, at most n_ steps
+        if (goHi) {
+            consider(hi, goHi);
+            ++hi;
+            goHi = goHi && hi < n_;
+        }
+        if (goLo) {
+            consider(lo, goLo);
+            --lo;
+            goLo = goLo && lo >= 0;
         }
     }
     return vertex;

@@ -29,13 +29,18 @@ constexpr std::int32_t kMaxPolylineVertices = 33;
 // within(x) return exactly what the functions return for (x, y). A row keeps only the
 // segments whose bounding box comes within the guard of it, each with the x interval
 // outside which it cannot be within; the distances to the vertices reuse the row's
-// (y - v.y)^2 and skip a vertex whose row term alone is no nearer.
+// (y - v.y)^2; nearest() walks the vertices sorted by x outwards from x and stops on each
+// side where (x - v.x)^2 alone is farther than the best, skipping a vertex whose row term
+// alone is no nearer (equal distances: the lower index, as nearestVertex()).
 class PolylineScan {
 public:
     void set(const Vec2* poly, std::int32_t n, double limit_sq) noexcept;
     void row(double y) noexcept;
-    [[nodiscard]] bool within(double x) const noexcept;
-    [[nodiscard]] std::int32_t nearest(double x) const noexcept;
+    // Not const: within() remembers the segment that last held the position (tried first
+    // next time: any segment answers the same), nearest() where the last answer lay in
+    // the vertices sorted by x.
+    [[nodiscard]] bool within(double x) noexcept;
+    [[nodiscard]] std::int32_t nearest(double x) noexcept;
 
 private:
     const Vec2* poly_ = nullptr;
@@ -48,6 +53,11 @@ private:
     double dy2_[kMaxPolylineVertices] = {};  // this row: (y - poly[i].y)^2
     std::int32_t active_[kMaxPolylineVertices] = {};
     std::int32_t active_count_ = 0;
+    std::int32_t last_hit_ = 0;                     // segment that last held a position, 0: none
+    std::int32_t by_x_[kMaxPolylineVertices] = {};  // vertex indices sorted by x
+    double sorted_x_[kMaxPolylineVertices] = {};    // their x
+    std::int32_t hint_ = 0;                         // nearest(): where the last x fell in sorted_x_
+    bool finite_ = true;                            // every vertex finite (else the plain loop)
 };
 
 }  // namespace vtm::features::detail
