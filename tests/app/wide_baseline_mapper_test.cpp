@@ -412,7 +412,7 @@ TEST_F(WideBaselineMapperTest, MemoryIsPlannedAndBadConfigsAreNamed) {
     mapper_ = std::make_unique<WideBaselineMapper>();
     ASSERT_TRUE(start(good, need).isOk());
     EXPECT_LE(mapper_->memoryBytes(), need);
-    EXPECT_GE(mapper_->memoryBytes() + 64U * 16U, need);  // alignment slack only
+    EXPECT_GE(mapper_->memoryBytes() + 72U * 16U, need);  // alignment slack only: < 72 blocks of 16-byte alignment
 
     const auto named = [](WideBaselineMapperConfig c, const char* field) {
         const Status st = c.validate();

@@ -388,6 +388,7 @@ struct TemplateBank {
     std::uint16_t* storage = nullptr;  // (kWarpHypotheses * kRaySamples + 1) * window^2 values
     std::size_t stride = 0U;           // window^2
     std::int32_t half = 0;             // template half width (window / 2)
+    detail::PolylineScan* scan = nullptr;  // the matcher's (arena)
     Template coarse[kWarpHypotheses * kRaySamples];
     bool built[kWarpHypotheses * kRaySamples] = {};
 };
@@ -410,7 +411,7 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
     }
     const std::int32_t step = regionStride(box);
     // detail::withinPolyline / nearestVertex, row by row (the same answers).
-    detail::PolylineScan scan;
+    detail::PolylineScan& scan = *bank.scan;
     scan.set(poly, rs.n, margin * margin);
     for (std::int32_t y = box.lo.y; y <= box.hi.y; y += step) {
         scan.row(static_cast<double>(y));
@@ -707,7 +708,7 @@ std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcep
     // Pyramid levels 1..L of A, then of B (one block each; an empty block still pads),
     // then the template bank.
     return 2U * Arena::blockBytes(bytes == 0U ? 1U : bytes) +
-           Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t));
+           Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t)) + Arena::constructBytes<detail::PolylineScan>(1U);
 }
 
 Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept {
@@ -718,7 +719,8 @@ Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept
     storageA_ = arena.allocateArray<std::uint8_t>(bytes == 0U ? 1U : bytes);
     storageB_ = arena.allocateArray<std::uint8_t>(bytes == 0U ? 1U : bytes);
     bank_ = arena.allocateArray<std::uint16_t>(bankValues(config));
-    if (storageA_.empty() || storageB_.empty() || bank_.empty()) {
+    scan_ = arena.construct<detail::PolylineScan>(1U);
+    if (storageA_.empty() || storageB_.empty() || bank_.empty() || scan_ == nullptr) {
         return Status(StatusCode::kOutOfMemory, "TemplateMatcher::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
@@ -878,6 +880,7 @@ Status TemplateMatcher::matchPrepared(const FeatureSet& features_a, const MatchP
     TemplateBank bank;
     bank.half = config_.template_window / 2;
     bank.storage = bank_.data();
+    bank.scan = scan_;
     bank.stride = static_cast<std::size_t>(config_.template_window) * static_cast<std::size_t>(config_.template_window);
     const auto tolerance = static_cast<double>(config_.mutual_tolerance_px);
     for (std::int32_t i = 0; i < features_a.count; ++i) {

@@ -110,6 +110,10 @@ struct MatchStats {
     std::int32_t attempted = 0, no_region = 0, low_score = 0, not_refined = 0, not_mutual = 0, matched = 0;
 };
 
+namespace detail {
+class PolylineScan;
+}  // namespace detail
+
 class TemplateMatcher {
 public:
     // Arena bytes init() takes (both pyramids, the template bank), 0 for an invalid configuration.
@@ -160,6 +164,9 @@ private:
     Span<std::uint8_t> storageA_{};
     Span<std::uint8_t> storageB_{};
     Span<std::uint16_t> bank_{};  // warped templates of one search (see the .cpp)
+    // The coarse scan's region test (private src/polyline.hpp), in the arena rather than
+    // on the stack (about 1.4 KB).
+    detail::PolylineScan* scan_ = nullptr;
 };
 
 }  // namespace vtm::features
