@@ -74,14 +74,8 @@ figures=$(awk -v n="$size" -v p1="$p1" -v p2="$p2" \
   printf "per pixel, independent of the planes: %.1f\n", c1 / n2 - m * p1
 }')
 echo "$figures"
-gate=0
-check() {  # check NAME VALUE LIMIT
-  if awk -v v="$2" -v m="$3" 'BEGIN { exit !(v > m) }'; then
-    echo "gate: $1 $2 > $3: FAILED"; gate=1
-  else
-    echo "gate: $1 $2 <= $3: ok"
-  fi
-}
-[ -n "$max_marginal" ] && check "marginal per pixel*plane" "$(echo "$figures" | awk '/^marginal/ {print $NF}')" "$max_marginal"
-[ -n "$max_fixed" ] && check "per pixel, independent of the planes" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
+# shellcheck source=tools/qemu/gate.sh
+. "$here/gate.sh"
+[ -n "$max_marginal" ] && gate_check "marginal per pixel*plane" "$(echo "$figures" | awk '/^marginal/ {print $NF}')" "$max_marginal"
+[ -n "$max_fixed" ] && gate_check "per pixel, independent of the planes" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
 exit "$gate"

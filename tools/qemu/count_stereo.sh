@@ -83,16 +83,10 @@ figures=$(awk -v w="$w" -v h="$h" -v d1="$d1" -v d2="$d2" \
   printf "per pixel, independent of D: %.1f\n", c1 / n - s * d1
 }')
 echo "$figures"
-gate=0
-check() {  # check NAME VALUE LIMIT
-  if awk -v v="$2" -v m="$3" 'BEGIN { exit !(v > m) }'; then
-    echo "gate: $1 $2 > $3: FAILED"; gate=1
-  else
-    echo "gate: $1 $2 <= $3: ok"
-  fi
-}
-[ -n "$max_search" ] && check "search per pixel*disparity" "$(echo "$figures" | awk '/^search/ {print $NF}')" "$max_search"
-[ -n "$max_fixed" ] && check "per pixel, independent of D" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
+# shellcheck source=tools/qemu/gate.sh
+. "$here/gate.sh"
+[ -n "$max_search" ] && gate_check "search per pixel*disparity" "$(echo "$figures" | awk '/^search/ {print $NF}')" "$max_search"
+[ -n "$max_fixed" ] && gate_check "per pixel, independent of D" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
 if [ "$profile" = 1 ]; then
   echo "one compute(), D=$d2, by symbol (instructions, per pixel*disparity, share):"
   awk -v n="$((w * h * d2))" '
