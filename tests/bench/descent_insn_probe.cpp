@@ -2,10 +2,12 @@
 // for every target. tools/qemu/count_descent.sh runs it under qemu-user with the
 // instruction-counting plugin and differences the counts so that only compute() remains.
 //
-//   vtm_descent_insn_probe SIZE PLANES REPEAT
+//   vtm_descent_insn_probe SIZE PLANES REPEAT [CONTENT]
 //
-// Synthetic nadir pair: image 1 a deterministic texture (3x3-smoothed xoshiro noise,
-// 12-bit) seen from 2000 m; image 2 the same ground plane (depth 2000 m) seen from
+// Synthetic nadir pair: image 1 a deterministic texture (CONTENT "texture", the default:
+// 3x3-smoothed xoshiro noise, 12-bit; or one of the adversarial contents of issue 22 item 5:
+// "noise" unsmoothed full-range noise, "flat" one grey level, "periodic" 4 px stripes,
+// "saturated" the texture times 4 clipped at 4095, "allbins" every level 0..4095) seen from 2000 m; image 2 the same ground plane (depth 2000 m) seen from
 // 1040 m, 20 m to the east (the descent scenario's first step); 64-plane-style sweep over
 // 1800..2200 m with the default Config otherwise. compute() runs REPEAT times; one
 // compute() = count(REPEAT = 2) - count(REPEAT = 1). Prints the valid-pixel count and a
@@ -15,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "vtm/core/arena.hpp"
@@ -35,7 +38,7 @@ int parseArg(const char* s, int lo, int hi, const char* what) {
 
 // Image 1: smoothed noise. Image 2: image 1's ground plane seen by camera 2 (bilinear,
 // in double: exact enough for a cost probe, and deterministic with + - * / only).
-void makePair(int n, const vtm::descent::PairGeometry& g, std::vector<std::uint16_t>& i1,
+void makePair(int n, const vtm::descent::PairGeometry& g, const char* content, std::vector<std::uint16_t>& i1,
               std::vector<std::uint16_t>& i2) {
     vtm::Random rng(0xDE5CE17u);
     std::vector<std::uint16_t> noise(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
@@ -49,13 +52,27 @@ void makePair(int n, const vtm::descent::PairGeometry& g, std::vector<std::uint1
         y = y < 0 ? 0 : (y >= n ? n - 1 : y);
         return static_cast<int>(img[static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x)]);
     };
+    const std::string kind = content;
     for (int y = 0; y < n; ++y) {
         for (int x = 0; x < n; ++x) {
             int s = 0;
             for (int k = 0; k < 9; ++k) {
                 s += at(noise, x + k % 3 - 1, y + k / 3 - 1);
             }
-            i1[static_cast<std::size_t>(y * n + x)] = static_cast<std::uint16_t>(s / 9);
+            const std::size_t i = static_cast<std::size_t>(y * n + x);
+            int v = s / 9;
+            if (kind == "noise") {
+                v = noise[i];
+            } else if (kind == "flat") {
+                v = 2048;
+            } else if (kind == "periodic") {
+                v = (x / 2) % 2 == 0 ? 1000 : 3000;
+            } else if (kind == "saturated") {
+                v = v * 4 > 4095 ? 4095 : v * 4;
+            } else if (kind == "allbins") {
+                v = (x + y * n) % 4096;
+            }
+            i1[i] = static_cast<std::uint16_t>(v);
         }
     }
     // Camera 2 pixel -> ground point at depth 2000 m below camera 1 -> camera 1 pixel.
@@ -78,8 +95,14 @@ void makePair(int n, const vtm::descent::PairGeometry& g, std::vector<std::uint1
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 4) {
-        std::fprintf(stderr, "usage: %s SIZE PLANES REPEAT\n", argv[0]);
+    if (argc != 4 && argc != 5) {
+        std::fprintf(stderr, "usage: %s SIZE PLANES REPEAT [texture|noise|flat|periodic|saturated|allbins]\n", argv[0]);
+        return 2;
+    }
+    const char* content = argc == 5 ? argv[4] : "texture";
+    const std::string kinds = " texture noise flat periodic saturated allbins ";
+    if (kinds.find(" " + std::string(content) + " ") == std::string::npos) {
+        std::fprintf(stderr, "descent_insn_probe: CONTENT must be one of%s\n", kinds.c_str());
         return 2;
     }
     const int n = parseArg(argv[1], 32, 4096, "SIZE");
@@ -90,7 +113,7 @@ int main(int argc, char** argv) {
     g.site_from_cam1.t_m = vtm::Vec3(0.0, 0.0, -2000.0);
     g.site_from_cam2.t_m = vtm::Vec3(0.0, 20.0, -1040.0);
     std::vector<std::uint16_t> i1, i2;
-    makePair(n, g, i1, i2);
+    makePair(n, g, content, i1, i2);
     vtm::descent::Config config;
     config.max_width = n;
     config.max_height = n;

@@ -3,7 +3,7 @@
 # qemu-user with the exact counting plugin (tools/qemu/insn_count.c).
 #
 #   tools/qemu/count_descent.sh [--build DIR] [--emulator QEMU] [--size N] [--planes P1,P2]
-#                               [--max-marginal M] [--max-fixed F]
+#                               [--content K] [--max-marginal M] [--max-fixed F]
 #
 # Defaults: --build build/h-desc-ppc750 (`cmake --preset ppc750 -B build/h-desc-ppc750 &&
 # cmake --build build/h-desc-ppc750 --target vtm_descent_insn_probe`), --emulator qemu-ppc,
@@ -16,6 +16,8 @@
 #   all-in per plane at P        = C(P) / P           (the issue's "instructions per plane")
 #   marginal per pixel*plane     = (C(P2) - C(P1)) / (N2 * (P2 - P1))
 #   per pixel, independent of P  = C(P1) / N2 - marginal * P1   (prefilter, decision)
+# --content K: the probe's image content (texture, the default; noise, flat, periodic,
+# saturated, allbins: issue 22 item 5's adversarial inputs).
 # --max-marginal M, --max-fixed F: a gate. Exit 1 (after the report) when the marginal
 # per pixel*plane exceeds M or the per-pixel part exceeds F. The counts are exact, so the
 # gate is deterministic (ctest bench.descent_insn_gate on ppc750).
@@ -28,15 +30,17 @@ size=1024
 planes=32,64
 max_marginal=""
 max_fixed=""
+content=texture
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --emulator) emulator=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --planes) planes=$2; shift 2 ;;
+    --content) content=$2; shift 2 ;;
     --max-marginal) max_marginal=$2; shift 2 ;;
     --max-fixed) max_fixed=$2; shift 2 ;;
-    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "count_descent.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -50,7 +54,7 @@ plugin=$work/libinsn_count.so
 
 count() {  # count PLANES REPEAT -> instruction total of one probe run
   local out=$work/descent-count-$1-$2.txt
-  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$size" "$1" "$2" > "$work/descent-probe-$1-$2.log"
+  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$size" "$1" "$2" "$content" > "$work/descent-probe-$1-$2.log"
   awk '$1 == "insns" {print $2}' "$out"
 }
 declare -A c
@@ -61,7 +65,7 @@ for p in "$p1" "$p2"; do
   cmp -s <(sed 's/repeat [0-9]*//' "$work/descent-probe-$p-1.log") <(sed 's/repeat [0-9]*//' "$work/descent-probe-$p-2.log") \
     || { echo "count_descent.sh: probe output differs between repeats" >&2; exit 1; }
 done
-echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${size}x${size}"
+echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${size}x${size}  content: $content"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/descent-probe-$p2-1.log")"
 figures=$(awk -v n="$size" -v p1="$p1" -v p2="$p2" \
     -v a1="${c[$p1,1]}" -v a2="${c[$p1,2]}" -v b1="${c[$p2,1]}" -v b2="${c[$p2,2]}" 'BEGIN {
