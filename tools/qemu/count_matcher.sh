@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Target-ISA instruction count of the features template matcher per searched feature,
+# under qemu-user with the exact counting plugin (tools/qemu/insn_count.c).
+#
+#   tools/qemu/count_matcher.sh [--build DIR] [--emulator QEMU] [--max-per-feature N]
+#
+# Defaults: --build build/ppc750 (`cmake --build build/ppc750 --target
+# vtm_matcher_insn_probe`), --emulator qemu-ppc.
+# Method (as count_descent.sh): the probe (tests/bench/matcher_insn_probe.cpp) calls
+# match() REPEAT times on one textured pair; one match() = count(REPEAT=2) -
+# count(REPEAT=1); per feature = that / the features attempted.
+# --max-per-feature N: a gate. Exit 1 (after the report) when the count per attempted
+# feature exceeds N. The counts are exact, so the gate is deterministic (ctest
+# bench.matcher_insn_gate on ppc750).
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=$root/build/ppc750
+emulator=qemu-ppc
+max_per_feature=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build) build=$2; shift 2 ;;
+    --emulator) emulator=$2; shift 2 ;;
+    --max-per-feature) max_per_feature=$2; shift 2 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    *) echo "count_matcher.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+probe=$build/tests/bench/vtm_matcher_insn_probe
+[ -x "$probe" ] || { echo "count_matcher.sh: $probe not built (cmake --build $build --target vtm_matcher_insn_probe)" >&2; exit 1; }
+work=$build/qemu
+mkdir -p "$work"
+plugin=$work/libinsn_count.so
+"$here/build_plugin.sh" "$plugin"
+
+count() {  # count REPEAT -> instruction total of one probe run
+  local out=$work/matcher-count-$1.txt
+  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$1" > "$work/matcher-probe-$1.log"
+  awk '$1 == "insns" {print $2}' "$out"
+}
+c1=$(count 1)
+c2=$(count 2)
+cmp -s <(sed 's/repeat [0-9]*//' "$work/matcher-probe-1.log") <(sed 's/repeat [0-9]*//' "$work/matcher-probe-2.log") \
+  || { echo "count_matcher.sh: probe output differs between repeats" >&2; exit 1; }
+attempted=$(awk '{for (i = 1; i < NF; ++i) if ($i == "attempted") print $(i + 1)}' "$work/matcher-probe-1.log")
+echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build"
+echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/matcher-probe-1.log")"
+figures=$(awk -v a="$c1" -v b="$c2" -v n="$attempted" 'BEGIN {
+  c = b - a
+  printf "one match(): %.0f instructions\n", c
+  printf "per feature: %.0f\n", c / n
+}')
+echo "$figures"
+# shellcheck source=tools/qemu/gate.sh
+. "$here/gate.sh"
+[ -n "$max_per_feature" ] && gate_check "per feature" "$(echo "$figures" | awk '/^per feature/ {print $NF}')" "$max_per_feature"
+exit "$gate"
