@@ -68,6 +68,41 @@ void slideRow(const float* i1, const float* w2, const float* o1, const float* ow
     }
 }
 
+// The band's row buffers the column sums run over (buffer row j = image row y0 - r + j):
+// image 1's and the warped image 2's, or image 1's twice (its own sums, imageSums()).
+struct BandRows {
+    const float* first;
+    const float* second;
+    std::int32_t width;
+    std::int32_t radius;
+};
+
+// Zeroes the column sums and adds buffer rows 0..2r: the windows of the band's first row.
+void startColumns(const ColumnSums& sums, const BandRows& rows, bool ncc) noexcept {
+    const float* const first = rows.first;
+    const float* const second = rows.second;
+    for (std::int32_t x = 0; x < rows.width; ++x) {
+        sums.a[x] = 0.0;
+        sums.b[x] = 0.0;
+        sums.c[x] = 0.0;
+    }
+    for (std::int32_t j = 0; j <= 2 * rows.radius; ++j) {
+        const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(j) * rows.width;
+        (ncc ? addRow<true> : addRow<false>)(first + at, second + at, rows.width, sums);
+    }
+}
+
+// Moves the column sums from the windows of band row bandRow - 1 to those of bandRow
+// (>= 1): buffer row bandRow + 2r enters, bandRow - 1 leaves.
+void slideColumns(const ColumnSums& sums, const BandRows& rows, std::int32_t bandRow, bool ncc) noexcept {
+    const float* const first = rows.first;
+    const float* const second = rows.second;
+    const std::ptrdiff_t enter = static_cast<std::ptrdiff_t>(bandRow + 2 * rows.radius) * rows.width;
+    const std::ptrdiff_t leave = static_cast<std::ptrdiff_t>(bandRow - 1) * rows.width;
+    (ncc ? slideRow<true> : slideRow<false>)(first + enter, second + enter, first + leave, second + leave,
+                                             rows.width, sums);
+}
+
 // The per-pixel state of a band row (plane_sweep.hpp, bestScore_ ...), as pointers to its
 // first pixel.
 struct RowState {
@@ -226,30 +261,16 @@ void PlaneSweep::warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows
 }
 
 void PlaneSweep::scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1) noexcept {
-    const std::int32_t r = radius_;
-    const std::int32_t w = width_;
-    const std::int32_t rows = y1 - y0 + 2 * r;
-    warpRows(k, y0 - r, rows);
-    for (std::int32_t x = 0; x < w; ++x) {
-        colA_[static_cast<std::size_t>(x)] = 0.0;
-        colB_[static_cast<std::size_t>(x)] = 0.0;
-        colC_[static_cast<std::size_t>(x)] = 0.0;
-    }
-    const bool ncc = config_.score == Score::kNcc;
+    warpRows(k, y0 - radius_, y1 - y0 + 2 * radius_);
     const ColumnSums sums{colA_.data(), colB_.data(), colC_.data()};
-    // Row j of the band's buffers is image row y0 - r + j.
-    auto i1 = [&](std::int32_t j) { return image1Rows_.data() + static_cast<std::ptrdiff_t>(j) * w; };
-    auto w2 = [&](std::int32_t j) { return warped_.data() + static_cast<std::ptrdiff_t>(j) * w; };
-    for (std::int32_t j = 0; j <= 2 * r; ++j) {
-        (ncc ? addRow<true> : addRow<false>)(i1(j), w2(j), w, sums);
-    }
-    for (std::int32_t y = y0; y < y1; ++y) {
-        if (y > y0) {
-            const std::int32_t enter = y + r - (y0 - r);
-            const std::int32_t leave = enter - 2 * r - 1;
-            (ncc ? slideRow<true> : slideRow<false>)(i1(enter), w2(enter), i1(leave), w2(leave), w, sums);
+    const BandRows rows{image1Rows_.data(), warped_.data(), width_, radius_};
+    const bool ncc = config_.score == Score::kNcc;
+    startColumns(sums, rows, ncc);
+    for (std::int32_t j = 0; j < y1 - y0; ++j) {
+        if (j > 0) {
+            slideColumns(sums, rows, j, ncc);
         }
-        scoreRow(k, y - y0);
+        scoreRow(k, j);
     }
 }
 
@@ -274,36 +295,26 @@ void PlaneSweep::imageSums(std::int32_t y0, std::int32_t y1) noexcept {
     const std::int32_t r = radius_;
     const std::int32_t w = width_;
     const auto nd = static_cast<double>(config_.window * config_.window);
-    const ColumnSums sums{colA_.data(), colB_.data(), colC_.data()};
-    for (std::int32_t x = 0; x < w; ++x) {
-        colA_[static_cast<std::size_t>(x)] = 0.0;
-        colB_[static_cast<std::size_t>(x)] = 0.0;
-        colC_[static_cast<std::size_t>(x)] = 0.0;
-    }
     // The image-1 rows stand in for the warped ones: a = sum i, b = sum i^2.
-    auto i1 = [&](std::int32_t j) { return image1Rows_.data() + static_cast<std::ptrdiff_t>(j) * w; };
-    for (std::int32_t j = 0; j <= 2 * r; ++j) {
-        addRow<true>(i1(j), i1(j), w, sums);
-    }
-    for (std::int32_t y = y0; y < y1; ++y) {
-        if (y > y0) {
-            const std::int32_t enter = y + r - (y0 - r);
-            slideRow<true>(i1(enter), i1(enter), i1(enter - 2 * r - 1), i1(enter - 2 * r - 1), w, sums);
+    const ColumnSums sums{colA_.data(), colB_.data(), colC_.data()};
+    const BandRows rows{image1Rows_.data(), image1Rows_.data(), w, r};
+    startColumns(sums, rows, true);
+    for (std::int32_t j = 0; j < y1 - y0; ++j) {
+        if (j > 0) {
+            slideColumns(sums, rows, j, true);
         }
-        const std::size_t rowBase = static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(w);
-        double s = 0.0;
-        double ss = 0.0;
-        for (std::int32_t x = 0; x < 2 * r; ++x) {
-            s += colA_[static_cast<std::size_t>(x)];
-            ss += colB_[static_cast<std::size_t>(x)];
-        }
+        double* const sumI = sumI_.data() + static_cast<std::ptrdiff_t>(j) * w;
+        double* const varI = varI_.data() + static_cast<std::ptrdiff_t>(j) * w;
+        const WindowRun run = startRun(sums, r);
+        double s = run.a;
+        double ss = run.b;
         for (std::int32_t x = r; x < w - r; ++x) {
-            s += colA_[static_cast<std::size_t>(x) + static_cast<std::size_t>(r)];
-            ss += colB_[static_cast<std::size_t>(x) + static_cast<std::size_t>(r)];
-            sumI_[rowBase + static_cast<std::size_t>(x)] = s;
-            varI_[rowBase + static_cast<std::size_t>(x)] = nd * ss - s * s;
-            s -= colA_[static_cast<std::size_t>(x - r)];
-            ss -= colB_[static_cast<std::size_t>(x - r)];
+            s += sums.a[x + r];
+            ss += sums.b[x + r];
+            sumI[x] = s;
+            varI[x] = nd * ss - s * s;
+            s -= sums.a[x - r];
+            ss -= sums.b[x - r];
         }
     }
 }
