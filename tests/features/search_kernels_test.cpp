@@ -1,5 +1,5 @@
 // The template matcher's fast search kernels against their plain forms in the same run:
-// PolylineScan against nearestVertex / withinPolyline, and the NCC pruning (mayExceed)
+// PolylineScan against nearestVertex / withinPolyline, and the NCC pruning (nccIfAbove)
 // against the score it skips. Both must give the same answers bit for bit, or the matches
 // (and every product downstream) would change.
 #include <gtest/gtest.h>
@@ -105,9 +105,13 @@ TEST(TemplateNcc, PruningNeverSkipsAScoreAboveTheBestAndTheKernelsAgree) {
                 ASSERT_EQ(s, ncc(t, to, Pos{x, y}, half));  // the one- and two-template passes
                 ASSERT_EQ(nccFromSums(u, w, cross[1], half), ncc(u, to, Pos{x, y}, half));
                 for (const double best : {-0.5, 0.0, 0.1, 0.5, s, s * (1.0 - 1e-15), 0.99}) {
-                    const bool may = mayExceed(t, w, cross[0], half, best);
+                    const double got = nccIfAbove(t, w, cross[0], half, best);
+                    const bool may = got != kNotAbove;
                     if (s > best) {
                         ASSERT_TRUE(may) << "half " << half << " score " << s << " best " << best;
+                    }
+                    if (may) {
+                        ASSERT_EQ(got, s);  // the score itself, bit for bit
                     }
                     pruned += may ? 0 : 1;
                     // Clearly below a best >= 0: the square root is not needed.

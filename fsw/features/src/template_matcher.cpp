@@ -423,7 +423,7 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
             const std::int32_t vertex = scan.nearest(xd);
             // The templates of the sample's hypotheses (kWarpHypotheses at most), then the
             // window's sums and its products with each in one pass; the square root only
-            // where the score may beat the best (detail::mayExceed: the same best).
+            // where the score may beat the best (detail::nccIfAbove: the same best).
             const Template* templates[kWarpHypotheses];
             for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
                 const std::size_t k = static_cast<std::size_t>(h) * std::size_t{kRaySamples} + static_cast<std::size_t>(vertex);
@@ -437,10 +437,7 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
             const detail::WindowStats window =
                 detail::windowAndCrossSums(templates, rs.hypotheses, *v.to, Pos{x, y}, v.half, cross);
             for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
-                if (!detail::mayExceed(*templates[h], window, cross[h], v.half, best.score)) {
-                    continue;
-                }
-                const double s = detail::nccFromSums(*templates[h], window, cross[h], v.half);
+                const double s = detail::nccIfAbove(*templates[h], window, cross[h], v.half, best.score);
                 if (s > best.score) {
                     best.score = s;
                     best.pos = Pos{x, y};
@@ -467,10 +464,7 @@ Best localSearch(const Template& t, const ImageView<const std::uint8_t>& to, Pos
             const Template* one[1] = {&t};
             double cross = 0.0;
             const detail::WindowStats window = detail::windowAndCrossSums(one, 1, to, Pos{x, y}, half, &cross);
-            if (!detail::mayExceed(t, window, cross, half, best.score)) {
-                continue;
-            }
-            const double s = detail::nccFromSums(t, window, cross, half);
+            const double s = detail::nccIfAbove(t, window, cross, half, best.score);
             if (s > best.score) {
                 best.score = s;
                 best.pos = Pos{x, y};

@@ -84,28 +84,25 @@ WindowStats windowAndCrossSums(const Template* const* templates, std::int32_t co
 }
 
 double nccFromSums(const Template& t, const WindowStats& w, double cross, std::int32_t half) noexcept {
+    return nccIfAbove(t, w, cross, half, -1.0);
+}
+
+double nccIfAbove(const Template& t, const WindowStats& w, double cross, std::int32_t half, double best) noexcept {
     if (!(t.var > 0.0) || !(w.var > 0.0)) {
         return 0.0;
     }
     // n cross <= 961 * 1.6e10 and t.sum * w.sum <= 6.3e7 * 2.5e5: both below 2^53, exact.
     const double cov = windowCount(half) * cross - t.sum * w.sum;
-    return cov / math::sqrt(t.var * w.var);
-}
-
-bool mayExceed(const Template& t, const WindowStats& w, double cross, std::int32_t half, double best) noexcept {
-    if (!(best >= 0.0)) {
-        return true;
+    // ncc > best >= 0 needs cov > 0 and cov^2 > best^2 var_t var_w, up to a few roundings
+    // (1e-16 each): below that (with a margin of 1e-9) the root is not taken.
+    if (best >= 0.0 && !(cov > 0.0)) {
+        return kNotAbove;
     }
-    if (!(t.var > 0.0) || !(w.var > 0.0)) {
-        return 0.0 > best;
-    }
-    const double cov = windowCount(half) * cross - t.sum * w.sum;
-    if (!(cov > 0.0)) {
-        return false;  // ncc <= 0 <= best
-    }
-    // ncc > best >= 0  =>  cov^2 > best^2 var_t var_w, up to a few roundings (1e-16 each).
     const double p = t.var * w.var;
-    return cov * cov >= (best * best) * p * (1.0 - 1e-9);
+    if (best >= 0.0 && !(cov * cov >= (best * best) * p * (1.0 - 1e-9))) {
+        return kNotAbove;
+    }
+    return cov / math::sqrt(p);
 }
 
 double ncc(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept {

@@ -46,12 +46,14 @@ void setTemplateSums(Template& t, std::int32_t half) noexcept;
 // The NCC from the sums; 0 when the template or the window is flat (undefined).
 [[nodiscard]] double nccFromSums(const Template& t, const WindowStats& w, double cross, std::int32_t half) noexcept;
 
-// False only when the NCC from these sums is certainly not above `best` (always true for
-// a negative best): a test
-// without the square root, with a margin far above the rounding of either side, so a
-// search that skips nccFromSums() when it is false keeps the same best.
-[[nodiscard]] bool mayExceed(const Template& t, const WindowStats& w, double cross, std::int32_t half,
-                             double best) noexcept;
+// Returned by nccIfAbove() for a score certainly not above the best: below every NCC.
+constexpr double kNotAbove = -2.0;
+
+// nccFromSums(), or kNotAbove when the NCC is certainly not above `best` (never for a
+// negative best): decided without the square root, with a margin far above the rounding
+// of either side, so a search keeping the first score above its best keeps the same best.
+[[nodiscard]] double nccIfAbove(const Template& t, const WindowStats& w, double cross, std::int32_t half,
+                                double best) noexcept;
 
 // NCC of the template with the window around b (which must fit).
 [[nodiscard]] double ncc(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept;
