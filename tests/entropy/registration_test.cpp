@@ -235,6 +235,8 @@ TEST(RegistrationConfig, EveryBadFieldIsNamedAndTheWorkspaceFits) {
         {[](RegistrationConfig& c) { c.entropy.input_bits = 7; }, "entropy.input_bits"},
         {[](RegistrationConfig& c) { c.representation = static_cast<Representation>(7); }, "registration.representation"},
         {[](RegistrationConfig& c) { c.fill_max_grey = 255; }, "registration.fill_max_grey"},
+        {[](RegistrationConfig& c) { c.equalise_radius_px = -1; }, "registration.equalise_radius_px"},
+        {[](RegistrationConfig& c) { c.equalise_radius_px = 64; }, "registration.equalise_radius_px"},
         {[](RegistrationConfig& c) { c.levels = 0; }, "registration.levels"},
         {[](RegistrationConfig& c) { c.levels = 6; }, "registration.levels"},  // 128 >> 5 = 4 px
         {[](RegistrationConfig& c) { c.max_angle_steps = 0; }, "registration.max_angle_steps"},

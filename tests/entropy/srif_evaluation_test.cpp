@@ -11,9 +11,10 @@
 // (rotation +-30 deg, scale 0.8-1.25 log-uniform, shift +-8 px).
 // A pair is correct when image 1's four corners land within 3 px of the truth's.
 //
-// CI runs a subset (every 25th optical-infrared pair, every 80th optical-map pair: about a
-// minute of CPU); VTM_SRIF_FULL=1 runs all 200 + 200 (about 33 min), VTM_SRIF_STEP=n every
-// n-th pair of both (docs/entropy.md has the figures and the commands).
+// CI runs a subset (every 10th optical-infrared pair from pair 2, every 80th optical-map
+// pair: about 1.5 minutes of CPU); VTM_SRIF_FULL=1 runs all 200 + 200 (about 33 min),
+// VTM_SRIF_STEP=n every n-th pair of both, VTM_SRIF_FIRST the first infrared pair
+// (docs/entropy.md has the figures and the commands).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -52,8 +53,10 @@ std::int32_t envInt(const char* name, std::int32_t fallback) {
     return env != nullptr ? std::atoi(env) : fallback;
 }
 
-RegistrationConfig moduleConfig(Representation rep) {
+// radius: the module's equalisation (registration.equalise_radius_px).
+RegistrationConfig moduleConfig(Representation rep, std::int32_t radius) {
     RegistrationConfig c;
+    c.equalise_radius_px = envInt("VTM_ENTROPY_RADIUS", radius);
     c.max_width = 256;
     c.max_height = 256;
     c.levels = kLevels;
@@ -424,42 +427,43 @@ class SrifEvaluation : public ::testing::Test {
 protected:
     void SetUp() override {
         VTM_REQUIRE_TEST_DATA(dataRoot() + "README.md");
-        const RegistrationConfig ce = moduleConfig(Representation::kEntropy);
-        const RegistrationConfig ci = moduleConfig(Representation::kIntensity);
-        poolE_.resize(EntropyRegistration::workspaceBytes(ce));
+        useEqualisation(RegistrationConfig{}.equalise_radius_px);
+        const RegistrationConfig ci = moduleConfig(Representation::kIntensity, 0);
         poolI_.resize(EntropyRegistration::workspaceBytes(ci));
-        arenaE_ = std::make_unique<Arena>(poolE_.data(), poolE_.size());
         arenaI_ = std::make_unique<Arena>(poolI_.data(), poolI_.size());
-        ASSERT_TRUE(entropy_.init(ce, *arenaE_).isOk());
         ASSERT_TRUE(intensity_.init(ci, *arenaI_).isOk());
+    }
+    // The module's entropy images with equalise_radius_px = radius (0: whole image).
+    void useEqualisation(std::int32_t radius) {
+        const RegistrationConfig ce = moduleConfig(Representation::kEntropy, radius);
+        poolE_.assign(EntropyRegistration::workspaceBytes(ce), std::byte{0});
+        arenaE_ = std::make_unique<Arena>(poolE_.data(), poolE_.size());
+        ASSERT_TRUE(entropy_.init(ce, *arenaE_).isOk());
     }
     std::vector<std::byte> poolE_, poolI_;
     std::unique_ptr<Arena> arenaE_, arenaI_;
     EntropyRegistration entropy_, intensity_;
 };
 
-// The issue's target. While it is missed the test prints by how much and asserts what
-// holds against the peers in the same run (docs/entropy.md has the measured levels).
-constexpr double kTarget = 0.90;             // issue 24: optical-infrared pairs within 3 px
-constexpr std::int32_t kInfraredStepCi = 25;  // 8 pairs
+// The issue's target, on every pair of the full run and on the CI subset (docs/entropy.md
+// has the measured levels).
+constexpr double kTarget = 0.90;              // issue 24: optical-infrared pairs within 3 px
+constexpr std::int32_t kInfraredFirstCi = 2;  // every 10th even pair: 20 pairs, none of them
+constexpr std::int32_t kInfraredStepCi = 10;  // among the odd pairs the settings were chosen on
 constexpr std::int32_t kMapStepCi = 80;       // 3 pairs
 
 TEST_F(SrifEvaluation, OpticalInfrared) {
+    const std::int32_t first = fullRun() ? 1 : envInt("VTM_SRIF_FIRST", kInfraredFirstCi);
     const std::int32_t step = fullRun() ? 1 : envInt("VTM_SRIF_STEP", kInfraredStepCi);
     Methods m;
-    for (std::int32_t n = 1; n <= 200; n += step) {
+    for (std::int32_t n = first; n <= 200; n += step) {
         Pair p;
         ASSERT_TRUE(loadOpticalInfrared(n, p)) << n;
         runPair(p, m, entropy_, intensity_);
     }
     report("optical-infrared", m);
     const double rate = static_cast<double>(m.entropy.correct) / m.entropy.pairs;
-    if (rate >= kTarget) {
-        EXPECT_GE(rate, kTarget);
-    } else {
-        std::printf("optical-infrared: the issue's target (>= %.0f %% within 3 px) is missed by %.1f points\n",
-                    100.0 * kTarget, 100.0 * (kTarget - rate));
-    }
+    EXPECT_GE(rate, kTarget) << "the issue's target: >= 90 % of the pairs within 3 px";
     // The point of the entropy images: across sensors they beat intensity correlation.
     EXPECT_GT(m.entropy.correct, m.intensity.correct);
     // Of the registrations the module accepts, nearly all are right.
@@ -467,6 +471,9 @@ TEST_F(SrifEvaluation, OpticalInfrared) {
 }
 
 TEST_F(SrifEvaluation, OpticalMap) {
+    // The rendered maps are flat colour fields: a local rank turns their compression noise
+    // into texture, so the maps are equalised over the whole image (docs/entropy.md).
+    useEqualisation(0);
     const std::int32_t step = fullRun() ? 1 : envInt("VTM_SRIF_STEP", kMapStepCi);
     Methods m;
     for (std::int32_t n = 1; n <= 200; n += step) {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -285,6 +286,34 @@ std::vector<double> matrixRows(const std::string& text, const std::string& tag) 
     return g;
 }
 
+// Correlation of the picture's image-2 squares with image 2 sampled through the true G
+// moved by (dx, dy) px (the test's own bilinear sampling).
+double squaresAgainstTruth(const GreyImage& picture, const GreyImage& b, const std::vector<double>& t, double dx,
+                           double dy) {
+    double n = 0, sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+    for (int y = 0; y < picture.height; ++y) {
+        for (int x = 0; x < picture.width; ++x) {
+            if (((x / 32) + (y / 32)) % 2 == 0) continue;
+            const double u = t[0] * x + t[1] * y + t[2] + dx;
+            const double v = t[3] * x + t[4] * y + t[5] + dy;
+            if (u < 1.0 || v < 1.0 || u > b.width - 2 || v > b.height - 2) continue;
+            const int x0 = static_cast<int>(u);
+            const int y0 = static_cast<int>(v);
+            const double fx = u - x0, fy = v - y0;
+            const double s = (b.at(x0, y0) * (1 - fx) + b.at(x0 + 1, y0) * fx) * (1 - fy) +
+                             (b.at(x0, y0 + 1) * (1 - fx) + b.at(x0 + 1, y0 + 1) * fx) * fy;
+            const double p = picture.at(x, y);
+            n += 1;
+            sa += p;
+            sb += s;
+            saa += p * p;
+            sbb += s * s;
+            sab += p * s;
+        }
+    }
+    return (n * sab - sa * sb) / std::sqrt((n * saa - sa * sa) * (n * sbb - sb * sb));
+}
+
 TEST(VtmCli, RegisterFindsTheKnownTransformOfRealOpticalInfraredPairs) {
     const std::string dir_srif = test::testDataSet("srif") + "optical-infrared/";
     VTM_REQUIRE_TEST_DATA(dir_srif + "pair1_1.jpg");
@@ -293,7 +322,7 @@ TEST(VtmCli, RegisterFindsTheKnownTransformOfRealOpticalInfraredPairs) {
         const std::string pair = dir_srif + "pair" + std::to_string(n);
         const CommandRun r = vtm(dir, "register '" + pair + "_1.jpg' '" + pair + "_2.jpg' --rotation=-96:6 --scale 0.9:1.1 "
                                       "--shift-range 8 --out '" + dir.file("g.txt") + "' --entropy1 '" + dir.file("e1.png") +
-                                      "' --entropy2 '" + dir.file("e2.png") + "'");
+                                      "' --entropy2 '" + dir.file("e2.png") + "' --matches '" + dir.file("m.png") + "'");
         ASSERT_EQ(r.exit_code, 0) << r.err;
         const std::vector<double> g = matrixRows(r.out, "G");
         const std::vector<double> truth = matrixRows(slurp(dir_srif + "gt_" + std::to_string(n) + ".txt"), "");
@@ -311,6 +340,20 @@ TEST(VtmCli, RegisterFindsTheKnownTransformOfRealOpticalInfraredPairs) {
         ASSERT_TRUE(e1.ok) << e1.error;
         EXPECT_EQ(e1.value.width, 256);
         EXPECT_EQ(e1.value.height, 256);
+        // The picture of the match: image 1's squares are image 1; image 2's follow image 2
+        // through the true transform, and not through one 6 px off.
+        const Result<GreyImage> m = loadGrey8(dir.file("m.png"));
+        const Result<GreyImage> a = loadGrey8(pair + "_1.jpg");
+        const Result<GreyImage> b = loadGrey8(pair + "_2.jpg");
+        ASSERT_TRUE(m.ok && a.ok && b.ok) << m.error << a.error << b.error;
+        ASSERT_TRUE(m.value.sameSize(a.value));
+        EXPECT_EQ(m.value.at(5, 5), a.value.at(5, 5));
+        EXPECT_EQ(m.value.at(100, 100), a.value.at(100, 100));
+        const double right = squaresAgainstTruth(m.value, b.value, truth, 0.0, 0.0);
+        const double off = squaresAgainstTruth(m.value, b.value, truth, 6.0, 0.0);
+        EXPECT_GT(right, 0.75) << "pair " << n;
+        EXPECT_LT(off, right - 0.3) << "pair " << n;
+        std::printf("pair %d: picture's image-2 squares against the truth: NCC %.3f (6 px off: %.3f)\n", n, right, off);
     }
 }
 
@@ -329,6 +372,7 @@ TEST(VtmCli, RegisterRefusesWithOneLineNamingTheInput) {
     EXPECT_TRUE(failsWith(vtm(dir, "register " + both), 1, "no registration"));
     EXPECT_TRUE(failsWith(vtm(dir, "register " + both + " --rotation 5:-5"), 2, "--rotation '5:-5'"));
     EXPECT_TRUE(failsWith(vtm(dir, "register " + both + " --scale abc"), 2, "--scale 'abc'"));
+    EXPECT_TRUE(failsWith(vtm(dir, "register " + both + " --equalise-radius 64"), 2, "--equalise-radius 64"));
     EXPECT_TRUE(failsWith(vtm(dir, "register '" + dir.file("missing.png") + "' '" + dir.file("flat.png") + "'"),
                           1, "missing.png"));
 }

@@ -69,6 +69,35 @@ std::string report(const RegisterOptions& o, const entropy::Registration& r, con
     return b;
 }
 
+// The picture of the match: image 1's frame as a checkerboard of kTile px squares, the
+// light squares image 1, the dark ones image 2 brought through G (bilinear; image 1 where
+// G leaves image 2). Where the registration is right, roads, rivers and field edges run on
+// across the squares' borders.
+constexpr std::int32_t kTile = 32;
+
+ground::GreyImage checkerboard(const ground::GreyImage& a, const ground::GreyImage& b, const entropy::Mat23& g) {
+    ground::GreyImage out(a.width, a.height);
+    for (std::int32_t y = 0; y < a.height; ++y) {
+        for (std::int32_t x = 0; x < a.width; ++x) {
+            out.at(x, y) = a.at(x, y);
+            if (((x / kTile) + (y / kTile)) % 2 == 0) continue;
+            const double u = g(0, 0) * x + g(0, 1) * y + g(0, 2);
+            const double v = g(1, 0) * x + g(1, 1) * y + g(1, 2);
+            if (!(u >= 0.0 && v >= 0.0 && u <= b.width - 1 && v <= b.height - 1)) continue;
+            const auto x0 = static_cast<std::int32_t>(u);
+            const auto y0 = static_cast<std::int32_t>(v);
+            const std::int32_t x1 = std::min(x0 + 1, b.width - 1);
+            const std::int32_t y1 = std::min(y0 + 1, b.height - 1);
+            const double fx = u - x0;
+            const double fy = v - y0;
+            const double top = b.at(x0, y0) * (1.0 - fx) + b.at(x1, y0) * fx;
+            const double bottom = b.at(x0, y1) * (1.0 - fx) + b.at(x1, y1) * fx;
+            out.at(x, y) = static_cast<std::uint8_t>(std::lround(top * (1.0 - fy) + bottom * fy));
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 CLI::App* addRegisterCommand(CLI::App& app, RegisterOptions& o) {
@@ -82,9 +111,14 @@ CLI::App* addRegisterCommand(CLI::App& app, RegisterOptions& o) {
                     "expected shift X:Y px: image 1's centre in image 2 minus image 2's centre (default 0:0)");
     cmd->add_option("--shift-range", o.shift_range_px, "half-width of the shifts searched around it, px (default 16)");
     cmd->add_flag("--intensity", o.intensity, "match grey levels instead of entropy images (one sensor)");
+    cmd->add_option("--equalise-radius", o.equalise_radius_px,
+                    "equalisation before the entropy: 0 over the whole image (flat products such as maps), "
+                    "1..63 px the rank within that radius (sensors whose response differs; default 12)");
     cmd->add_option("--out", o.out, "write G and the figures (text)");
     cmd->add_option("--entropy1", o.entropy1_png, "write image 1's matched (entropy) image, PNG");
     cmd->add_option("--entropy2", o.entropy2_png, "write image 2's matched (entropy) image, PNG");
+    cmd->add_option("--matches", o.matches_png,
+                    "write the match as a picture, PNG: image 1 and image 2 brought through G in alternate 32 px squares");
     return cmd;
 }
 
@@ -92,6 +126,10 @@ int runRegister(const RegisterOptions& o) {
     entropy::RegistrationRequest request;
     const std::string bad = requestOf(o, request);
     if (!bad.empty()) return fail(kExitUsageError, bad);
+    if (o.equalise_radius_px < 0 || o.equalise_radius_px > 63) {
+        return fail(kExitUsageError, "--equalise-radius " + std::to_string(o.equalise_radius_px) +
+                                         ": must be 0 (whole image) .. 63 px");
+    }
     const ground::Result<ground::GreyImage> a = ground::loadGrey8(o.image1);
     if (!a.ok) return fail(kExitInputError, a.error);
     const ground::Result<ground::GreyImage> b = ground::loadGrey8(o.image2);
@@ -100,6 +138,7 @@ int runRegister(const RegisterOptions& o) {
     c.max_width = std::max(a.value.width, b.value.width);
     c.max_height = std::max(a.value.height, b.value.height);
     c.representation = o.intensity ? entropy::Representation::kIntensity : entropy::Representation::kEntropy;
+    c.equalise_radius_px = o.equalise_radius_px;
     const Status valid = c.validate();
     if (!valid.isOk()) {
         return fail(kExitInputError, o.image1 + ", " + o.image2 + ": " + valid.reason() + " (" +
@@ -125,6 +164,10 @@ int runRegister(const RegisterOptions& o) {
     }
     const std::string written = writeMatched(o, reg);
     if (!written.empty()) return fail(kExitInputError, written);
+    if (!o.matches_png.empty()) {
+        const ground::Outcome w = ground::writePng(o.matches_png, checkerboard(a.value, b.value, r.image2_from_image1));
+        if (!w.ok) return fail(kExitInputError, w.error);
+    }
     if (!s.isOk()) {
         return fail(kExitInputError, std::string("no registration: ") + s.reason() + " (" + o.image1 + ", " +
                                          o.image2 + ")");

@@ -18,9 +18,11 @@ struct RegisterOptions {
     std::string shift = "0:0";        // expected t: image 1's centre in image 2 minus image 2's centre, px
     double shift_range_px = 16.0;     // half-width of the square of t searched, px
     bool intensity = false;           // match grey levels instead of entropy images (same sensor)
+    int equalise_radius_px = 12;      // the module's equalisation: 0 whole image, 1..63 local (docs/entropy.md)
     std::string out;                  // the 2x3 matrix and the figures (text)
     std::string entropy1_png;         // the entropy images (docs: the paper's Fig. 12)
     std::string entropy2_png;
+    std::string matches_png;          // image 1 and image 2 through G as a checkerboard (the paper's Fig. 13)
 };
 
 CLI::App* addRegisterCommand(CLI::App& app, RegisterOptions& options);

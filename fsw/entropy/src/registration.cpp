@@ -6,6 +6,8 @@
 #include "vtm/core/math.hpp"
 #include "vtm/entropy/registration.hpp"
 
+#include "equalise.hpp"
+
 namespace vtm::entropy {
 namespace {
 
@@ -161,43 +163,6 @@ bool hasContrast(const ImageView<const std::uint8_t>& img) noexcept {
     return s.n * s.aa - s.a * s.a > 0;
 }
 
-// Histogram equalisation: grey level v becomes round(255 * (cdf(v) - cdf(first)) / (n - cdf(first)))
-// (cdf(v): pixels at or below v, first: the lowest level present), integer arithmetic.
-// Fill pixels (grey <= fillMax) are left out of the histogram and become 0.
-void equalise(const ImageView<const std::uint8_t>& src, const ImageView<std::uint8_t>& dst,
-              std::int32_t fillMax) noexcept {
-    std::uint32_t counts[256] = {};
-    for (std::int32_t y = 0; y < src.height(); ++y) {
-        const std::uint8_t* r = src.row(y);
-        for (std::int32_t x = 0; x < src.width(); ++x) {
-            ++counts[r[x]];
-        }
-    }
-    std::uint8_t table[256] = {};
-    std::uint64_t n = 0U;
-    for (std::int32_t v = fillMax + 1; v < 256; ++v) {
-        n += counts[v];
-    }
-    std::uint64_t below = 0U;
-    std::uint64_t first = 0U;
-    for (std::int32_t v = fillMax + 1; v < 256; ++v) {
-        below += counts[v];
-        if (first == 0U) {
-            first = below;
-        }
-        const std::uint64_t span = n > first ? n - first : 1U;
-        const std::uint64_t above = below > first ? below - first : 0U;
-        table[v] = static_cast<std::uint8_t>((above * 255U + span / 2U) / span);
-    }
-    for (std::int32_t y = 0; y < src.height(); ++y) {
-        const std::uint8_t* r = src.row(y);
-        std::uint8_t* d = dst.row(y);
-        for (std::int32_t x = 0; x < src.width(); ++x) {
-            d[x] = table[r[x]];
-        }
-    }
-}
-
 }  // namespace
 
 Mat23 EntropyRegistration::matrixOf(const Params& p) const noexcept {
@@ -343,7 +308,11 @@ Status EntropyRegistration::prepareOne(std::int32_t index, const ImageView<const
     }
     if (config_.representation == Representation::kEntropy && config_.equalise) {
         const ImageView<std::uint8_t> eq(scratch_.data(), img.width(), img.height());
-        equalise(img, eq, config_.fill_max_grey);
+        if (config_.equalise_radius_px > 0) {
+            detail::localRank(img, eq, config_.equalise_radius_px, config_.fill_max_grey, rankCounts_);
+        } else {
+            detail::equalise(img, eq, config_.fill_max_grey);
+        }
         VTM_RETURN_IF_ERROR(entropy_.compute(eq, levels[0]));
     } else if (config_.representation == Representation::kEntropy) {
         VTM_RETURN_IF_ERROR(entropy_.compute(img, levels[0]));

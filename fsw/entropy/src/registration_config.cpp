@@ -2,6 +2,8 @@
 #include "vtm/core/config_check.hpp"
 #include "vtm/entropy/registration.hpp"
 
+#include "equalise.hpp"
+
 #include <cmath>
 
 namespace vtm::entropy {
@@ -62,6 +64,9 @@ Status RegistrationConfig::validate() const noexcept {
     if (fill_max_grey < -1 || fill_max_grey > 254) {
         return invalidConfig("registration.fill_max_grey: must be -1 (none) .. 254", fill_max_grey);
     }
+    if (equalise_radius_px < 0 || equalise_radius_px > detail::kMaxRankRadius) {
+        return invalidConfig("registration.equalise_radius_px: must be 0 (whole image) .. 63", equalise_radius_px);
+    }
     if (levels < 1 || levels > kMaxLevels) {
         return invalidConfig("registration.levels: must be 1..6", levels);
     }
@@ -104,6 +109,7 @@ std::size_t EntropyRegistration::workspaceBytes(const RegistrationConfig& config
            + 2U * Arena::arrayBytes<std::uint8_t>(pyramidPixels(config))    // pyramids of images 1 and 2
            + 2U * Arena::arrayBytes<std::uint8_t>(pyramidPixels(config))    // their data masks
            + Arena::arrayBytes<std::uint8_t>(imagePixels(config))           // equalised image
+           + Arena::arrayBytes<std::uint16_t>(detail::kRankCounts)          // local rank's counts
            + Arena::arrayBytes<std::int16_t>(warpPixels(config))            // warped coarse level
            + Arena::arrayBytes<double>(shiftCount(config));                 // scores of the coarse shifts
 }
@@ -123,9 +129,10 @@ Status EntropyRegistration::init(const RegistrationConfig& config, Arena& arena)
     maskPyramid1_ = arena.allocateArray<std::uint8_t>(pyramidPixels(config));
     maskPyramid2_ = arena.allocateArray<std::uint8_t>(pyramidPixels(config));
     scratch_ = arena.allocateArray<std::uint8_t>(imagePixels(config));
+    rankCounts_ = arena.allocateArray<std::uint16_t>(detail::kRankCounts);
     warp_ = arena.allocateArray<std::int16_t>(warpPixels(config));
     shiftScores_ = arena.allocateArray<double>(shiftCount(config));
-    if (pyramid1_.empty() || pyramid2_.empty() || maskPyramid1_.empty() || maskPyramid2_.empty() || scratch_.empty() || warp_.empty() || shiftScores_.empty()) {
+    if (pyramid1_.empty() || pyramid2_.empty() || maskPyramid1_.empty() || maskPyramid2_.empty() || scratch_.empty() || rankCounts_.empty() || warp_.empty() || shiftScores_.empty()) {
         return Status(StatusCode::kOutOfMemory,
                       "EntropyRegistration::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));

@@ -48,6 +48,13 @@ struct OrbitalMap {
 // kOk, or kInvalidArgument naming the field ("orbital map: ...").
 [[nodiscard]] Status validateOrbitalMap(const OrbitalMap& map) noexcept;
 
+// The registration's defaults with equalisation over the whole image.
+[[nodiscard]] inline entropy::RegistrationConfig orbitalRegistrationDefaults() noexcept {
+    entropy::RegistrationConfig c;
+    c.equalise_radius_px = 0;
+    return c;
+}
+
 struct OrbitalFixConfig {
     // The locate stage runs (and its memory is planned) only when enabled; it needs the
     // refine stage's inliers (refine_pose).
@@ -57,7 +64,10 @@ struct OrbitalFixConfig {
     bool required = false;
     // The registration (its capacity bounds both the reduced frame and the orbital cut-out;
     // 3 levels, window 5, 8 bins by default). validate() of its own names its fields.
-    entropy::RegistrationConfig registration{};
+    // Equalised over the whole frame (equalise_radius_px 0), not the registration's local
+    // default: on descent_orbital.scn the local rank put request 2's second frame 6.6
+    // orbital px off (docs/app.md "Orbital fix").
+    entropy::RegistrationConfig registration = orbitalRegistrationDefaults();
     // Search around the navigation's prediction: rotation +- angle_range_rad (the heading
     // error, 0..pi), scale x (1 +- scale_range) (the altitude error and the relief,
     // 0.01..0.9), shift +- (shift_sigmas x the pose's horizontal position sigma / cell +

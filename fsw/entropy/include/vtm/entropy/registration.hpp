@@ -11,7 +11,8 @@
 // image 2's centre. As a 2x3 matrix G: [x2 y2]^T = G [x1 y1 1]^T.
 //
 // Method (docs/entropy.md):
-//  1. The entropy images of both (LocalEntropy; or the grey levels themselves with
+//  1. The entropy images of both after equalisation (over the whole image, or each pixel's
+//     rank in the square of equalise_radius_px around it), LocalEntropy; or the grey levels themselves with
 //     Representation::kIntensity, the same search on intensities), then pyramids of
 //     `levels` levels by 2x2 averaging (vtm::halveImage).
 //  2. Coarse search on the coarsest level: every rotation and scale of a grid spaced about
@@ -68,6 +69,12 @@ struct RegistrationConfig {
     // bins then cut every sensor's own grey-level distribution into equal shares, so a
     // low-contrast sensor (thermal infrared) uses all of them. Ignored for kIntensity.
     bool equalise = true;
+    // Where equalisation looks: 0 over the whole image (histogram equalisation); r > 0
+    // within the (2 r + 1)^2 square around each pixel (its rank among its neighbours,
+    // 1..63), which also takes out a response that varies across the image. 12: measured
+    // on the SRIF optical-infrared pairs, 95 % registered against 59.5 % with the whole
+    // image (docs/entropy.md).
+    std::int32_t equalise_radius_px = 12;
     // Grey levels at or below this are no data (-1: none), e.g. the black fill around a
     // rotated or cropped product: such pixels, and (entropy) every pixel whose window
     // reaches one, take no part in equalisation or scores. -1..254.
@@ -186,6 +193,7 @@ private:
     Span<std::uint8_t> pyramid1_{};
     Span<std::uint8_t> pyramid2_{};
     Span<std::uint8_t> scratch_{};  // an equalised image before its entropy image; mask erosion
+    Span<std::uint16_t> rankCounts_{};  // localRank()'s window counts
     ImageView<std::uint8_t> masks1_[kMaxLevels]{};  // 1 where image 1's level has data
     ImageView<std::uint8_t> masks2_[kMaxLevels]{};
     Span<std::uint8_t> maskPyramid1_{};
