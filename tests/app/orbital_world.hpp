@@ -135,6 +135,12 @@ inline DescentMapperConfig orbitalConfig(const World& w, bool fix) {
     if (const char* e = std::getenv("VTM_ORB_BINS")) c.orbital.registration.entropy.bins = std::atoi(e);
     if (const char* e = std::getenv("VTM_ORB_MINNCC")) c.orbital.min_ncc = std::atof(e);
     if (const char* e = std::getenv("VTM_ORB_PIXEL")) c.orbital.min_pixel_cells = std::atof(e);
+    if (const char* e = std::getenv("VTM_ORB_RADIUS")) c.orbital.registration.equalise_radius_px = std::atoi(e);
+    if (const char* e = std::getenv("VTM_ORB_REG_MINNCC")) c.orbital.registration.min_ncc = std::atof(e);
+    if (const char* e = std::getenv("VTM_ORB_PEAK")) {
+        c.orbital.max_peak_ratio = std::atof(e);
+        c.orbital.registration.max_peak_ratio = std::atof(e);
+    }
     return c;
 }
 
