@@ -3,10 +3,13 @@
 // instruction-counting plugin (tools/qemu/insn_count.c) and differences the counts so
 // that everything but the disparity search cancels.
 //
-//   vtm_stereo_insn_probe WIDTH HEIGHT DISPARITIES REPEAT
+//   vtm_stereo_insn_probe WIDTH HEIGHT DISPARITIES REPEAT [CONTENT]
 //
 // Builds a synthetic rectified pair (deterministic texture, a background plane at
-// disparity D/4 and a raised square at D/2, D = DISPARITIES), initialises MlStereo with
+// disparity D/4 and a raised square at D/2, D = DISPARITIES; CONTENT "texture", the
+// default, or one of the adversarial contents of issue 22 item 5: "noise" unsmoothed
+// full-range noise, "flat" one grey level, "periodic" 4 px stripes, "saturated" the
+// texture times 4 clipped at 255, "allbins" every level 0..255 in turn), initialises MlStereo with
 // the default Config except d_min = 0, d_max = D - 1 and the image size as capacity,
 // then calls compute() REPEAT times on the same pair. The instruction count of one
 // compute() is count(REPEAT = 2) - count(REPEAT = 1): pair synthesis, init and process
@@ -16,6 +19,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "vtm/core/arena.hpp"
@@ -35,10 +39,22 @@ int parseArg(const char* s, int lo, int hi, const char* what) {
     return static_cast<int>(v);
 }
 
+// The right image's grey level at (x, y) for an adversarial content, from the texture t
+// and the raw noise r there.
+int contentValue(const std::string& kind, int x, int y, int w, int t, int r) {
+    if (kind == "noise") return r;
+    if (kind == "flat") return 128;
+    if (kind == "periodic") return (x / 2) % 2 == 0 ? 60 : 190;
+    if (kind == "saturated") return t * 4 > 255 ? 255 : t * 4;
+    if (kind == "allbins") return (x + y * w) % 256;
+    return t;
+}
+
 // Right image: random grey levels smoothed by a 3x3 box (texture at the scale of a few
-// pixels). Left image: the right one seen at disparity D/4, with a square in the middle
-// third at D/2; uncovered pixels get fresh texture.
-void makePair(int w, int h, int nd, std::vector<std::uint8_t>& left, std::vector<std::uint8_t>& right) {
+// pixels), or the CONTENT made of them. Left image: the right one seen at disparity D/4,
+// with a square in the middle third at D/2; uncovered pixels get fresh noise.
+void makePair(int w, int h, int nd, const std::string& kind, std::vector<std::uint8_t>& left,
+              std::vector<std::uint8_t>& right) {
     vtm::Random rng(0x5EEDu);
     std::vector<std::uint8_t> noise(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
     for (auto& v : noise) {
@@ -56,8 +72,8 @@ void makePair(int w, int h, int nd, std::vector<std::uint8_t>& left, std::vector
                     s += noise[static_cast<std::size_t>(yy) * static_cast<std::size_t>(w) + static_cast<std::size_t>(xx)];
                 }
             }
-            right[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
-                static_cast<std::uint8_t>(s / 9);
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+            right[i] = static_cast<std::uint8_t>(contentValue(kind, x, y, w, s / 9, noise[i]));
         }
     }
     for (int y = 0; y < h; ++y) {
@@ -73,8 +89,14 @@ void makePair(int w, int h, int nd, std::vector<std::uint8_t>& left, std::vector
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 5) {
-        std::fprintf(stderr, "usage: %s WIDTH HEIGHT DISPARITIES REPEAT\n", argv[0]);
+    if (argc != 5 && argc != 6) {
+        std::fprintf(stderr, "usage: %s WIDTH HEIGHT DISPARITIES REPEAT [texture|noise|flat|periodic|saturated|allbins]\n",
+                     argv[0]);
+        return 2;
+    }
+    const std::string kind = argc == 6 ? argv[5] : "texture";
+    if (std::string(" texture noise flat periodic saturated allbins ").find(" " + kind + " ") == std::string::npos) {
+        std::fprintf(stderr, "stereo_insn_probe: CONTENT must be texture, noise, flat, periodic, saturated or allbins\n");
         return 2;
     }
     const int w = parseArg(argv[1], 16, 4096, "WIDTH");
@@ -83,7 +105,7 @@ int main(int argc, char** argv) {
     const int repeat = parseArg(argv[4], 0, 100, "REPEAT");
 
     std::vector<std::uint8_t> left, right;
-    makePair(w, h, nd, left, right);
+    makePair(w, h, nd, kind, left, right);
 
     vtm::stereo::Config config;
     config.max_width = w;

@@ -3,7 +3,7 @@
 # qemu-user with the exact counting plugin (tools/qemu/insn_count.c).
 #
 #   tools/qemu/count_stereo.sh [--build DIR] [--emulator QEMU] [--size WxH] [--disparities D1,D2]
-#                              [--mode insn|tb] [--profile] [--max-search N] [--max-fixed N]
+#                              [--mode insn|tb] [--profile] [--max-search N] [--max-fixed N] [--content K]
 #
 # Defaults: --build build/peer-ppc750 (a ppc750 build: `cmake --preset ppc750 -B
 # build/peer-ppc750 && cmake --build build/peer-ppc750 --target vtm_stereo_insn_probe`),
@@ -11,6 +11,8 @@
 # Other targets: e.g. --build build/aarch64 --emulator qemu-aarch64.
 # --profile: also the instructions of one compute() at D2 per containing symbol (code
 # inlined into a function counts for it), top 12, demangled.
+# --content K: the probe's image content (texture, the default; noise, flat, periodic,
+# saturated, allbins: issue 22 item 5, docs/stereo.md "Cost").
 # --max-search N, --max-fixed N: a gate. Exit 1 (after the report) when the search per
 # pixel*disparity exceeds N, or the per-pixel cost independent of D does; counts are
 # exact, so the gate is deterministic (ctest bench.stereo_insn_gate on ppc750).
@@ -34,6 +36,7 @@ mode=insn
 profile=0
 max_search=
 max_fixed=
+content=texture
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
@@ -44,7 +47,8 @@ while [ $# -gt 0 ]; do
     --profile) profile=1; shift ;;
     --max-search) max_search=$2; shift 2 ;;
     --max-fixed) max_fixed=$2; shift 2 ;;
-    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    --content) content=$2; shift 2 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "count_stereo.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -58,7 +62,7 @@ plugin=$work/libinsn_count.so
 count() {  # count D REPEAT -> instruction total of one probe run
   local out=$work/count-$1-$2.txt opts="outfile=$work/count-$1-$2.txt,mode=$mode"
   [ "$profile" = 1 ] && [ "$1" = "$d2" ] && opts="$opts,profile=on"
-  "$emulator" -plugin "$plugin,$opts" "$probe" "$w" "$h" "$1" "$2" > "$work/probe-$1-$2.log"
+  "$emulator" -plugin "$plugin,$opts" "$probe" "$w" "$h" "$1" "$2" "$content" > "$work/probe-$1-$2.log"
   awk '$1 == "insns" {print $2}' "$out"
 }
 declare -A c
@@ -70,7 +74,7 @@ for d in "$d1" "$d2"; do
   cmp -s <(sed 's/repeat [0-9]*//' "$work/probe-$d-1.log") <(sed 's/repeat [0-9]*//' "$work/probe-$d-2.log") \
     || { echo "count_stereo.sh: probe output differs between repeats" >&2; exit 1; }
 done
-echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${w}x${h}  mode: $mode"
+echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${w}x${h}  mode: $mode  content: $content"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/probe-$d2-1.log")"
 figures=$(awk -v w="$w" -v h="$h" -v d1="$d1" -v d2="$d2" \
     -v a1="${c[$d1,1]}" -v a2="${c[$d1,2]}" -v b1="${c[$d2,1]}" -v b2="${c[$d2,2]}" 'BEGIN {
