@@ -3,20 +3,25 @@
 // count_matcher.sh runs it under qemu-user with the counting plugin and differences two
 // repeat counts so that only match() remains.
 //
-//   vtm_matcher_insn_probe REPEAT
+//   vtm_matcher_insn_probe REPEAT [CONTENT]
 //
-// A 512 x 448 pair of the features tests' smooth random texture, image B shifted by
-// (17.3, 4.0) px: image A's Förstner features (8 x 7 cells, 2 per cell), each searched along
+// A 512 x 448 pair of the features tests' smooth random texture (CONTENT "texture", the
+// default; or one of the adversarial contents of issue 22 item 5: "noise" a new grey level
+// at every pixel, "flat" one grey level, "periodic" 4 px stripes, "saturated" the texture's
+// contrast times 4 clipped, "allbins" every level 0..255 in turn), image B shifted by
+// (17.3, 4.0) px (bilinear between the pixels of the lattice contents): image A's Förstner features (8 x 7 cells, 2 per cell), each searched along
 // the image of its ray over ranges 2..200 m with a 40 px margin (long, wide regions as in
 // the rover's request), both warp hypotheses (a tilted plane normal), mutual check and
 // affine refinement on: the default MatcherConfig otherwise. match() runs REPEAT times.
 // Prints the attempted and matched counts and a hash of the matched positions' bits.
 // Test code: heap for the images.
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "test_images.hpp"
@@ -31,18 +36,61 @@ using namespace vtm::features;
 constexpr std::int32_t kW = 512, kH = 448;
 constexpr double kShiftX = 17.3, kShiftY = 4.0, kPlaneZ = 10.0, kPad = 80.0;
 
+// A content on a lattice of one value per pixel, read bilinearly: noise and allbins.
+double latticeAt(const std::string& kind, double u, double v) {
+    const auto value = [&](std::int64_t i, std::int64_t j) {
+        if (kind == "noise") {
+            std::uint64_t z = static_cast<std::uint64_t>(i * 73856093LL ^ j * 19349663LL) + 0x9E3779B97F4A7C15ULL;
+            z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
+            z = (z ^ (z >> 27U)) * 0x94D049BB133111EBULL;
+            return static_cast<double>((z ^ (z >> 31U)) & 0xFFU);
+        }
+        return static_cast<double>((i + j * kW) & 0xFF);  // allbins
+    };
+    const double fu = std::floor(u), fv = std::floor(v);
+    const auto i = static_cast<std::int64_t>(fu);
+    const auto j = static_cast<std::int64_t>(fv);
+    const double a = u - fu, b = v - fv;
+    return (value(i, j) * (1 - a) + value(i + 1, j) * a) * (1 - b) + (value(i, j + 1) * (1 - a) + value(i + 1, j + 1) * a) * b;
+}
+
+// Image whose pixel (x, y) is the content at (x - shift_x + kPad, y - shift_y + kPad).
+test::Image render(const std::string& kind, const test::Texture& t, double shift_x, double shift_y) {
+    if (kind == "texture") {
+        return test::renderTexture(t, kW, kH, shift_x, shift_y, kPad);
+    }
+    test::Image img(kW, kH);
+    for (std::int32_t y = 0; y < kH; ++y) {
+        for (std::int32_t x = 0; x < kW; ++x) {
+            const double u = x - shift_x + kPad, v = y - shift_y + kPad;
+            double g = 128.0;
+            if (kind == "periodic") {
+                g = static_cast<std::int64_t>(std::floor(u / 2.0)) % 2 == 0 ? 60.0 : 190.0;
+            } else if (kind == "saturated") {
+                g = 128.0 + 4.0 * (t.at(u, v) - 128.0);
+            } else if (kind == "noise" || kind == "allbins") {
+                g = latticeAt(kind, u, v);
+            }
+            img.at(x, y) = test::toGrey(g);
+        }
+    }
+    return img;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     char* end = nullptr;
-    const long repeat = argc == 2 ? std::strtol(argv[1], &end, 10) : -1;
-    if (argc != 2 || end == argv[1] || *end != '\0' || repeat < 0 || repeat > 100) {
-        std::fprintf(stderr, "usage: %s REPEAT (0..100)\n", argv[0]);
+    const long repeat = argc >= 2 ? std::strtol(argv[1], &end, 10) : -1;
+    const std::string kind = argc == 3 ? argv[2] : "texture";
+    if (argc < 2 || argc > 3 || end == argv[1] || *end != '\0' || repeat < 0 || repeat > 100 ||
+        std::string(" texture noise flat periodic saturated allbins ").find(" " + kind + " ") == std::string::npos) {
+        std::fprintf(stderr, "usage: %s REPEAT (0..100) [texture|noise|flat|periodic|saturated|allbins]\n", argv[0]);
         return 2;
     }
     const test::Texture texture(21U, kW / 2 + 100, 0);
-    const test::Image a = test::renderTexture(texture, kW, kH, 0.0, 0.0, kPad);
-    const test::Image b = test::renderTexture(texture, kW, kH, kShiftX, kShiftY, kPad);
+    const test::Image a = render(kind, texture, 0.0, 0.0);
+    const test::Image b = render(kind, texture, kShiftX, kShiftY);
     const CameraModel cam = makePinhole(kW, kH, 60.0);
     MatchPrediction p;
     p.pair.model_a = cam;

@@ -2,13 +2,16 @@
 # Target-ISA instruction count of the features template matcher per searched feature,
 # under qemu-user with the exact counting plugin (tools/qemu/insn_count.c).
 #
-#   tools/qemu/count_matcher.sh [--build DIR] [--emulator QEMU] [--max-per-feature N]
+#   tools/qemu/count_matcher.sh [--build DIR] [--emulator QEMU] [--max-per-feature N] [--content K]
 #
 # Defaults: --build build/ppc750 (`cmake --build build/ppc750 --target
 # vtm_matcher_insn_probe`), --emulator qemu-ppc.
 # Method (as count_descent.sh): the probe (tests/bench/matcher_insn_probe.cpp) calls
 # match() REPEAT times on one textured pair; one match() = count(REPEAT=2) -
 # count(REPEAT=1); per feature = that / the features attempted.
+# --content K: the probe's image content (texture, the default; noise, flat, periodic,
+# saturated, allbins: issue 22 item 5, docs/features.md). A content without features
+# (flat, stripes, ramps) reports the whole match() only.
 # --max-per-feature N: a gate. Exit 1 (after the report) when the count per attempted
 # feature exceeds N. The counts are exact, so the gate is deterministic (ctest
 # bench.matcher_insn_gate on ppc750).
@@ -18,12 +21,14 @@ root=$(cd "$here/../.." && pwd)
 build=$root/build/ppc750
 emulator=qemu-ppc
 max_per_feature=""
+content=texture
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --emulator) emulator=$2; shift 2 ;;
     --max-per-feature) max_per_feature=$2; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    --content) content=$2; shift 2 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) echo "count_matcher.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -36,7 +41,7 @@ plugin=$work/libinsn_count.so
 
 count() {  # count REPEAT -> instruction total of one probe run
   local out=$work/matcher-count-$1.txt
-  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$1" > "$work/matcher-probe-$1.log"
+  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$1" "$content" > "$work/matcher-probe-$1.log"
   awk '$1 == "insns" {print $2}' "$out"
 }
 c1=$(count 1)
@@ -44,12 +49,13 @@ c2=$(count 2)
 cmp -s <(sed 's/repeat [0-9]*//' "$work/matcher-probe-1.log") <(sed 's/repeat [0-9]*//' "$work/matcher-probe-2.log") \
   || { echo "count_matcher.sh: probe output differs between repeats" >&2; exit 1; }
 attempted=$(awk '{for (i = 1; i < NF; ++i) if ($i == "attempted") print $(i + 1)}' "$work/matcher-probe-1.log")
-echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build"
+echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  content: $content"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/matcher-probe-1.log")"
 figures=$(awk -v a="$c1" -v b="$c2" -v n="$attempted" 'BEGIN {
   c = b - a
   printf "one match(): %.0f instructions\n", c
-  printf "per feature: %.0f\n", c / n
+  if (n > 0) printf "per feature: %.0f\n", c / n
+  else printf "per feature: (no feature searched)\n"
 }')
 echo "$figures"
 # shellcheck source=tools/qemu/gate.sh
