@@ -3,8 +3,10 @@
 // count_matcher.sh runs it under qemu-user with the counting plugin and differences two
 // repeat counts so that only match() remains.
 //
-//   vtm_matcher_insn_probe REPEAT [CONTENT]
+//   vtm_matcher_insn_probe REPEAT [CONTENT [OPERATION]]
 //
+// OPERATION "match" (the default) repeats match(); "detect" repeats the Förstner detection
+// of image A instead (its cost by content) and hashes the features' positions.
 // A 512 x 448 pair of the features tests' smooth random texture (CONTENT "texture", the
 // default; or one of the adversarial contents of issue 22 item 5: "noise" a new grey level
 // at every pixel, "flat" one grey level, "periodic" 4 px stripes, "saturated" the texture's
@@ -82,10 +84,13 @@ test::Image render(const std::string& kind, const test::Texture& t, double shift
 int main(int argc, char** argv) {
     char* end = nullptr;
     const long repeat = argc >= 2 ? std::strtol(argv[1], &end, 10) : -1;
-    const std::string kind = argc == 3 ? argv[2] : "texture";
-    if (argc < 2 || argc > 3 || end == argv[1] || *end != '\0' || repeat < 0 || repeat > 100 ||
-        std::string(" texture noise flat periodic saturated allbins ").find(" " + kind + " ") == std::string::npos) {
-        std::fprintf(stderr, "usage: %s REPEAT (0..100) [texture|noise|flat|periodic|saturated|allbins]\n", argv[0]);
+    const std::string kind = argc >= 3 ? argv[2] : "texture";
+    const std::string operation = argc == 4 ? argv[3] : "match";
+    if (argc < 2 || argc > 4 || end == argv[1] || *end != '\0' || repeat < 0 || repeat > 100 ||
+        std::string(" texture noise flat periodic saturated allbins ").find(" " + kind + " ") == std::string::npos ||
+        (operation != "match" && operation != "detect")) {
+        std::fprintf(stderr, "usage: %s REPEAT (0..100) [texture|noise|flat|periodic|saturated|allbins [match|detect]]\n",
+                     argv[0]);
         return 2;
     }
     const test::Texture texture(21U, kW / 2 + 100, 0);
@@ -125,18 +130,28 @@ int main(int argc, char** argv) {
         return 1;
     }
     MatchStats stats;
-    for (long i = 0; i < repeat; ++i) {
+    const long detections = operation == "detect" ? repeat : 0;
+    for (long i = 0; i < detections; ++i) {
+        if (!detector.detect(a.view(), *fs).isOk()) {
+            std::fprintf(stderr, "matcher_insn_probe: detect failed\n");
+            return 1;
+        }
+    }
+    const long matches = operation == "match" ? repeat : 0;
+    for (long i = 0; i < matches; ++i) {
         const Status st = matcher.match(a.view(), b.view(), *fs, p, *out, &stats);
         if (!st.isOk()) {
             std::fprintf(stderr, "matcher_insn_probe: match: %s\n", st.reason());
             return 1;
         }
     }
-    // FNV-1a over the matched positions' bits, each value's bytes little-endian first (the
-    // same hash on big- and little-endian targets).
+    // FNV-1a over the matched (detect: the features') positions' bits, each value's bytes
+    // little-endian first (the same hash on big- and little-endian targets).
     std::uint64_t hash = 1469598103934665603ULL;
-    for (std::int32_t i = 0; i < out->count; ++i) {
-        for (const double v : {out->items[i].pixel_b.x(), out->items[i].pixel_b.y()}) {
+    const bool detect = operation == "detect";
+    for (std::int32_t i = 0; i < (detect ? fs->count : out->count); ++i) {
+        const Vec2 at = detect ? fs->items[i].pixel : out->items[i].pixel_b;
+        for (const double v : {at.x(), at.y()}) {
             std::uint64_t bits = 0;
             std::memcpy(&bits, &v, sizeof bits);
             for (int k = 0; k < 8; ++k) {

@@ -3,6 +3,7 @@
 # under qemu-user with the exact counting plugin (tools/qemu/insn_count.c).
 #
 #   tools/qemu/count_matcher.sh [--build DIR] [--emulator QEMU] [--max-per-feature N] [--content K]
+#                               [--detect]
 #
 # Defaults: --build build/ppc750 (`cmake --build build/ppc750 --target
 # vtm_matcher_insn_probe`), --emulator qemu-ppc.
@@ -12,6 +13,7 @@
 # --content K: the probe's image content (texture, the default; noise, flat, periodic,
 # saturated, allbins: issue 22 item 5, docs/features.md). A content without features
 # (flat, stripes, ramps) reports the whole match() only.
+# --detect: count one Förstner detection of image A instead (per pixel of the 512 x 448 image).
 # --max-per-feature N: a gate. Exit 1 (after the report) when the count per attempted
 # feature exceeds N. The counts are exact, so the gate is deterministic (ctest
 # bench.matcher_insn_gate on ppc750).
@@ -22,13 +24,15 @@ build=$root/build/ppc750
 emulator=qemu-ppc
 max_per_feature=""
 content=texture
+operation=match
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --emulator) emulator=$2; shift 2 ;;
     --max-per-feature) max_per_feature=$2; shift 2 ;;
     --content) content=$2; shift 2 ;;
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    --detect) operation=detect; shift ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "count_matcher.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -41,7 +45,7 @@ plugin=$work/libinsn_count.so
 
 count() {  # count REPEAT -> instruction total of one probe run
   local out=$work/matcher-count-$1.txt
-  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$1" "$content" > "$work/matcher-probe-$1.log"
+  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$1" "$content" "$operation" > "$work/matcher-probe-$1.log"
   awk '$1 == "insns" {print $2}' "$out"
 }
 c1=$(count 1)
@@ -49,8 +53,12 @@ c2=$(count 2)
 cmp -s <(sed 's/repeat [0-9]*//' "$work/matcher-probe-1.log") <(sed 's/repeat [0-9]*//' "$work/matcher-probe-2.log") \
   || { echo "count_matcher.sh: probe output differs between repeats" >&2; exit 1; }
 attempted=$(awk '{for (i = 1; i < NF; ++i) if ($i == "attempted") print $(i + 1)}' "$work/matcher-probe-1.log")
-echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  content: $content"
+echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  content: $content  operation: $operation"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/matcher-probe-1.log")"
+if [ "$operation" = detect ]; then
+  awk -v a="$c1" -v b="$c2" 'BEGIN { c = b - a; printf "one detect(): %.0f instructions, %.1f per pixel\n", c, c / (512 * 448) }'
+  exit 0
+fi
 figures=$(awk -v a="$c1" -v b="$c2" -v n="$attempted" 'BEGIN {
   c = b - a
   printf "one match(): %.0f instructions\n", c
