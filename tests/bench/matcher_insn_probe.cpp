@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
             }
         }
     }
-    std::printf("features %d attempted %d matched %d repeat %ld hash %016llx\n", fs->count, stats.attempted,
-                out->count, repeat, static_cast<unsigned long long>(hash));
+    std::printf("pixels %d features %d attempted %d matched %d repeat %ld hash %016llx\n", kW * kH, fs->count,
+                stats.attempted, out->count, repeat, static_cast<unsigned long long>(hash));
     return 0;
 }

@@ -52,18 +52,18 @@ mkdir -p "$work"
 plugin=$work/libinsn_count.so
 "$here/build_plugin.sh" "$plugin"
 
+# shellcheck source=tools/qemu/count_common.sh
+. "$here/count_common.sh"
 count() {  # count PLANES REPEAT -> instruction total of one probe run
-  local out=$work/descent-count-$1-$2.txt
-  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$size" "$1" "$2" "$content" > "$work/descent-probe-$1-$2.log"
-  awk '$1 == "insns" {print $2}' "$out"
+  insn_count "$work/descent-count-$1-$2.txt" "$work/descent-probe-$1-$2.log" mode=insn \
+    "$probe" "$size" "$1" "$2" "$content"
 }
 declare -A c
 for p in "$p1" "$p2"; do
   for r in 1 2; do
     c[$p,$r]=$(count "$p" "$r")
   done
-  cmp -s <(sed 's/repeat [0-9]*//' "$work/descent-probe-$p-1.log") <(sed 's/repeat [0-9]*//' "$work/descent-probe-$p-2.log") \
-    || { echo "count_descent.sh: probe output differs between repeats" >&2; exit 1; }
+  same_repeats count_descent.sh "$work/descent-probe-$p-1.log" "$work/descent-probe-$p-2.log"
 done
 echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${size}x${size}  content: $content"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/descent-probe-$p2-1.log")"
@@ -78,8 +78,6 @@ figures=$(awk -v n="$size" -v p1="$p1" -v p2="$p2" \
   printf "per pixel, independent of the planes: %.1f\n", c1 / n2 - m * p1
 }')
 echo "$figures"
-# shellcheck source=tools/qemu/gate.sh
-. "$here/gate.sh"
 [ -n "$max_marginal" ] && gate_check "marginal per pixel*plane" "$(echo "$figures" | awk '/^marginal/ {print $NF}')" "$max_marginal"
 [ -n "$max_fixed" ] && gate_check "per pixel, independent of the planes" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
 exit "$gate"

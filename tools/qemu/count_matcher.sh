@@ -43,20 +43,23 @@ mkdir -p "$work"
 plugin=$work/libinsn_count.so
 "$here/build_plugin.sh" "$plugin"
 
+# shellcheck source=tools/qemu/count_common.sh
+. "$here/count_common.sh"
 count() {  # count REPEAT -> instruction total of one probe run
-  local out=$work/matcher-count-$1.txt
-  "$emulator" -plugin "$plugin,outfile=$out,mode=insn" "$probe" "$1" "$content" "$operation" > "$work/matcher-probe-$1.log"
-  awk '$1 == "insns" {print $2}' "$out"
+  insn_count "$work/matcher-count-$1.txt" "$work/matcher-probe-$1.log" mode=insn "$probe" "$1" "$content" "$operation"
 }
 c1=$(count 1)
 c2=$(count 2)
-cmp -s <(sed 's/repeat [0-9]*//' "$work/matcher-probe-1.log") <(sed 's/repeat [0-9]*//' "$work/matcher-probe-2.log") \
-  || { echo "count_matcher.sh: probe output differs between repeats" >&2; exit 1; }
-attempted=$(awk '{for (i = 1; i < NF; ++i) if ($i == "attempted") print $(i + 1)}' "$work/matcher-probe-1.log")
+same_repeats count_matcher.sh "$work/matcher-probe-1.log" "$work/matcher-probe-2.log"
+field() {  # field NAME -> the value after NAME on the probe's line
+  awk -v k="$1" '{for (i = 1; i < NF; ++i) if ($i == k) print $(i + 1)}' "$work/matcher-probe-1.log"
+}
+attempted=$(field attempted)
 echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  content: $content  operation: $operation"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/matcher-probe-1.log")"
 if [ "$operation" = detect ]; then
-  awk -v a="$c1" -v b="$c2" 'BEGIN { c = b - a; printf "one detect(): %.0f instructions, %.1f per pixel\n", c, c / (512 * 448) }'
+  awk -v a="$c1" -v b="$c2" -v n="$(field pixels)" \
+    'BEGIN { c = b - a; printf "one detect(): %.0f instructions, %.1f per pixel\n", c, c / n }'
   exit 0
 fi
 figures=$(awk -v a="$c1" -v b="$c2" -v n="$attempted" 'BEGIN {
@@ -66,7 +69,5 @@ figures=$(awk -v a="$c1" -v b="$c2" -v n="$attempted" 'BEGIN {
   else printf "per feature: (no feature searched)\n"
 }')
 echo "$figures"
-# shellcheck source=tools/qemu/gate.sh
-. "$here/gate.sh"
 [ -n "$max_per_feature" ] && gate_check "per feature" "$(echo "$figures" | awk '/^per feature/ {print $NF}')" "$max_per_feature"
 exit "$gate"

@@ -59,11 +59,12 @@ work=$build/qemu
 plugin=$work/libinsn_count.so
 "$here/build_plugin.sh" "$plugin"
 
+# shellcheck source=tools/qemu/count_common.sh
+. "$here/count_common.sh"
 count() {  # count D REPEAT -> instruction total of one probe run
-  local out=$work/count-$1-$2.txt opts="outfile=$work/count-$1-$2.txt,mode=$mode"
+  local opts="mode=$mode"
   [ "$profile" = 1 ] && [ "$1" = "$d2" ] && opts="$opts,profile=on"
-  "$emulator" -plugin "$plugin,$opts" "$probe" "$w" "$h" "$1" "$2" "$content" > "$work/probe-$1-$2.log"
-  awk '$1 == "insns" {print $2}' "$out"
+  insn_count "$work/count-$1-$2.txt" "$work/probe-$1-$2.log" "$opts" "$probe" "$w" "$h" "$1" "$2" "$content"
 }
 declare -A c
 for d in "$d1" "$d2"; do
@@ -71,8 +72,7 @@ for d in "$d1" "$d2"; do
     c[$d,$r]=$(count "$d" "$r")
   done
   # The disparities must not depend on the repeat count (same input, same bits).
-  cmp -s <(sed 's/repeat [0-9]*//' "$work/probe-$d-1.log") <(sed 's/repeat [0-9]*//' "$work/probe-$d-2.log") \
-    || { echo "count_stereo.sh: probe output differs between repeats" >&2; exit 1; }
+  same_repeats count_stereo.sh "$work/probe-$d-1.log" "$work/probe-$d-2.log"
 done
 echo "target: $(basename "$emulator" | sed 's/^qemu-//')  build: $build  size: ${w}x${h}  mode: $mode  content: $content"
 echo "probe:  $(sed 's/ repeat [0-9]*//' "$work/probe-$d2-1.log")"
@@ -87,8 +87,6 @@ figures=$(awk -v w="$w" -v h="$h" -v d1="$d1" -v d2="$d2" \
   printf "per pixel, independent of D: %.1f\n", c1 / n - s * d1
 }')
 echo "$figures"
-# shellcheck source=tools/qemu/gate.sh
-. "$here/gate.sh"
 [ -n "$max_search" ] && gate_check "search per pixel*disparity" "$(echo "$figures" | awk '/^search/ {print $NF}')" "$max_search"
 [ -n "$max_fixed" ] && gate_check "per pixel, independent of D" "$(echo "$figures" | awk '/^per pixel/ {print $NF}')" "$max_fixed"
 if [ "$profile" = 1 ]; then

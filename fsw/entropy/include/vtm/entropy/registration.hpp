@@ -11,10 +11,10 @@
 // image 2's centre. As a 2x3 matrix G: [x2 y2]^T = G [x1 y1 1]^T.
 //
 // Method (docs/entropy.md):
-//  1. The entropy images of both after equalisation (over the whole image, or each pixel's
-//     rank in the square of equalise_radius_px around it), LocalEntropy; or the grey levels themselves with
-//     Representation::kIntensity, the same search on intensities), then pyramids of
-//     `levels` levels by 2x2 averaging (vtm::halveImage).
+//  1. Each image equalised (over the whole image, or each pixel's rank in the square of
+//     equalise_radius_px around it), then its entropy image (LocalEntropy); or the grey
+//     levels themselves with Representation::kIntensity, the same search on intensities.
+//     Then pyramids of `levels` levels by 2x2 averaging (vtm::halveImage).
 //  2. Coarse search on the coarsest level: every rotation and scale of a grid spaced about
 //     one coarse pixel of motion at the image's edge, within the request's ranges; for each,
 //     image 2's level warped once (bilinear, fixed point) onto image 1's grid widened by the
