@@ -84,15 +84,7 @@ ground::GreyImage checkerboard(const ground::GreyImage& a, const ground::GreyIma
             const double u = g(0, 0) * x + g(0, 1) * y + g(0, 2);
             const double v = g(1, 0) * x + g(1, 1) * y + g(1, 2);
             if (!(u >= 0.0 && v >= 0.0 && u <= b.width - 1 && v <= b.height - 1)) continue;
-            const auto x0 = static_cast<std::int32_t>(u);
-            const auto y0 = static_cast<std::int32_t>(v);
-            const std::int32_t x1 = std::min(x0 + 1, b.width - 1);
-            const std::int32_t y1 = std::min(y0 + 1, b.height - 1);
-            const double fx = u - x0;
-            const double fy = v - y0;
-            const double top = b.at(x0, y0) * (1.0 - fx) + b.at(x1, y0) * fx;
-            const double bottom = b.at(x0, y1) * (1.0 - fx) + b.at(x1, y1) * fx;
-            out.at(x, y) = static_cast<std::uint8_t>(std::lround(top * (1.0 - fy) + bottom * fy));
+            out.at(x, y) = static_cast<std::uint8_t>(std::lround(ground::bilinearAt(b, u, v)));
         }
     }
     return out;

@@ -9,16 +9,6 @@ namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-// Bilinear sample of an 8-bit image at (x, y), inside [0, w-1] x [0, h-1].
-double bilinear(const GreyImage& g, const Vec2& p) {
-    const int x0 = static_cast<int>(std::floor(p.x())), y0 = static_cast<int>(std::floor(p.y()));
-    const int x1 = std::min(x0 + 1, g.width - 1), y1 = std::min(y0 + 1, g.height - 1);
-    const double fx = p.x() - x0, fy = p.y() - y0;
-    const double top = (1.0 - fx) * g.at(x0, y0) + fx * g.at(x1, y0);
-    const double bottom = (1.0 - fx) * g.at(x0, y1) + fx * g.at(x1, y1);
-    return (1.0 - fy) * top + fy * bottom;
-}
-
 }  // namespace
 
 GreyImage pdsCylinderMosaic(const std::vector<PdsImage>& frames, const PdsMosaicConfig& config) {
@@ -52,7 +42,7 @@ GreyImage pdsCylinderMosaic(const std::vector<PdsImage>& frames, const PdsMosaic
                                                std::min(px.y(), grey[k].height - 1.0 - px.y()));
                 if (margin > best_margin) {
                     best_margin = margin;
-                    value = bilinear(grey[k], px);
+                    value = bilinearAt(grey[k], px.x(), px.y());
                 }
             }
             out.at(col, row) = static_cast<std::uint8_t>(std::lround(std::min(255.0, std::max(0.0, value))));

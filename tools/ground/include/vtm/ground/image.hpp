@@ -5,6 +5,8 @@
 // Pixels are stored row by row from the top, channels interleaved (RGB for colour).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -55,6 +57,16 @@ private:
 using GreyImage = Image<std::uint8_t>;        // 8-bit grey (or RGB with channels = 3)
 using Grey16Image = Image<std::uint16_t>;     // raw grey levels of an 8- or 16-bit file
 using FloatImage = Image<float>;              // disparities, uncertainties (pixels)
+
+// Bilinear sample of a one-channel 8-bit image at (x, y), inside [0, w-1] x [0, h-1].
+inline double bilinearAt(const GreyImage& g, double x, double y) {
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const int x1 = std::min(x0 + 1, g.width - 1), y1 = std::min(y0 + 1, g.height - 1);
+    const double fx = x - x0, fy = y - y0;
+    const double top = (1.0 - fx) * g.at(x0, y0) + fx * g.at(x1, y0);
+    const double bottom = (1.0 - fx) * g.at(x0, y1) + fx * g.at(x1, y1);
+    return (1.0 - fy) * top + fy * bottom;
+}
 
 // The outcome of an operation on outside data. When !ok, `error` is one line that
 // names the input (usually the file path) and what is wrong with it, e.g.
