@@ -5,9 +5,8 @@
 //   vtm_descent_insn_probe SIZE PLANES REPEAT [CONTENT]
 //
 // Synthetic nadir pair: image 1 a deterministic texture (CONTENT "texture", the default:
-// 3x3-smoothed xoshiro noise, 12-bit; or one of the adversarial contents of issue 22 item 5:
-// "noise" unsmoothed full-range noise, "flat" one grey level, "periodic" 4 px stripes,
-// "saturated" the texture times 4 clipped at 4095, "allbins" every level 0..4095) seen from 2000 m; image 2 the same ground plane (depth 2000 m) seen from
+// 3x3-smoothed xoshiro noise, 12-bit; or an adversarial one of probe_content.hpp) seen
+// from 2000 m; image 2 the same ground plane (depth 2000 m) seen from
 // 1040 m, 20 m to the east (the descent scenario's first step); 64-plane-style sweep over
 // 1800..2200 m with the default Config otherwise. compute() runs REPEAT times; one
 // compute() = count(REPEAT = 2) - count(REPEAT = 1). Prints the valid-pixel count and a
@@ -20,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "probe_content.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/random.hpp"
 #include "vtm/descent/plane_sweep.hpp"
@@ -60,19 +60,8 @@ void makePair(int n, const vtm::descent::PairGeometry& g, const char* content, s
                 s += at(noise, x + k % 3 - 1, y + k / 3 - 1);
             }
             const std::size_t i = static_cast<std::size_t>(y * n + x);
-            int v = s / 9;
-            if (kind == "noise") {
-                v = noise[i];
-            } else if (kind == "flat") {
-                v = 2048;
-            } else if (kind == "periodic") {
-                v = (x / 2) % 2 == 0 ? 1000 : 3000;
-            } else if (kind == "saturated") {
-                v = v * 4 > 4095 ? 4095 : v * 4;
-            } else if (kind == "allbins") {
-                v = (x + y * n) % 4096;
-            }
-            i1[i] = static_cast<std::uint16_t>(v);
+            i1[i] = static_cast<std::uint16_t>(
+                vtm::bench::contentValue(kind, {4095, 2048, 1000, 3000}, x, y, n, s / 9, noise[i]));
         }
     }
     // Camera 2 pixel -> ground point at depth 2000 m below camera 1 -> camera 1 pixel.
@@ -96,13 +85,11 @@ void makePair(int n, const vtm::descent::PairGeometry& g, const char* content, s
 
 int main(int argc, char** argv) {
     if (argc != 4 && argc != 5) {
-        std::fprintf(stderr, "usage: %s SIZE PLANES REPEAT [texture|noise|flat|periodic|saturated|allbins]\n", argv[0]);
+        std::fprintf(stderr, "usage: %s SIZE PLANES REPEAT [%s]\n", argv[0], vtm::bench::kContents);
         return 2;
     }
     const char* content = argc == 5 ? argv[4] : "texture";
-    const std::string kinds = " texture noise flat periodic saturated allbins ";
-    if (kinds.find(" " + std::string(content) + " ") == std::string::npos) {
-        std::fprintf(stderr, "descent_insn_probe: CONTENT must be one of%s\n", kinds.c_str());
+    if (!vtm::bench::knownContent(content, "descent_insn_probe")) {
         return 2;
     }
     const int n = parseArg(argv[1], 32, 4096, "SIZE");

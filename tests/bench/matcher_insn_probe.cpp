@@ -8,9 +8,9 @@
 // OPERATION "match" (the default) repeats match(); "detect" repeats the Förstner detection
 // of image A instead (its cost by content) and hashes the features' positions.
 // A 512 x 448 pair of the features tests' smooth random texture (CONTENT "texture", the
-// default; or one of the adversarial contents of issue 22 item 5: "noise" a new grey level
-// at every pixel, "flat" one grey level, "periodic" 4 px stripes, "saturated" the texture's
-// contrast times 4 clipped, "allbins" every level 0..255 in turn), image B shifted by
+// default; or an adversarial one of probe_content.hpp, here drawn as continuous functions:
+// "noise" a new grey level at every pixel, "saturated" the texture's contrast about 128
+// times 4, clipped), image B shifted by
 // (17.3, 4.0) px (bilinear between the pixels of the lattice contents): image A's Förstner features (8 x 7 cells, 2 per cell), each searched along
 // the image of its ray over ranges 2..200 m with a 40 px margin (long, wide regions as in
 // the rover's request), both warp hypotheses (a tilted plane normal), mutual check and
@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "probe_content.hpp"
 #include "test_images.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/features/features.hpp"
@@ -87,10 +88,11 @@ int main(int argc, char** argv) {
     const std::string kind = argc >= 3 ? argv[2] : "texture";
     const std::string operation = argc == 4 ? argv[3] : "match";
     if (argc < 2 || argc > 4 || end == argv[1] || *end != '\0' || repeat < 0 || repeat > 100 ||
-        std::string(" texture noise flat periodic saturated allbins ").find(" " + kind + " ") == std::string::npos ||
         (operation != "match" && operation != "detect")) {
-        std::fprintf(stderr, "usage: %s REPEAT (0..100) [texture|noise|flat|periodic|saturated|allbins [match|detect]]\n",
-                     argv[0]);
+        std::fprintf(stderr, "usage: %s REPEAT (0..100) [%s [match|detect]]\n", argv[0], vtm::bench::kContents);
+        return 2;
+    }
+    if (!vtm::bench::knownContent(kind, "matcher_insn_probe")) {
         return 2;
     }
     const test::Texture texture(21U, kW / 2 + 100, 0);

@@ -7,9 +7,7 @@
 //
 // Builds a synthetic rectified pair (deterministic texture, a background plane at
 // disparity D/4 and a raised square at D/2, D = DISPARITIES; CONTENT "texture", the
-// default, or one of the adversarial contents of issue 22 item 5: "noise" unsmoothed
-// full-range noise, "flat" one grey level, "periodic" 4 px stripes, "saturated" the
-// texture times 4 clipped at 255, "allbins" every level 0..255 in turn), initialises MlStereo with
+// default, or an adversarial one of probe_content.hpp, 8-bit), initialises MlStereo with
 // the default Config except d_min = 0, d_max = D - 1 and the image size as capacity,
 // then calls compute() REPEAT times on the same pair. The instruction count of one
 // compute() is count(REPEAT = 2) - count(REPEAT = 1): pair synthesis, init and process
@@ -22,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "probe_content.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/image.hpp"
 #include "vtm/core/random.hpp"
@@ -37,17 +36,6 @@ int parseArg(const char* s, int lo, int hi, const char* what) {
         std::exit(2);
     }
     return static_cast<int>(v);
-}
-
-// The right image's grey level at (x, y) for an adversarial content, from the texture t
-// and the raw noise r there.
-int contentValue(const std::string& kind, int x, int y, int w, int t, int r) {
-    if (kind == "noise") return r;
-    if (kind == "flat") return 128;
-    if (kind == "periodic") return (x / 2) % 2 == 0 ? 60 : 190;
-    if (kind == "saturated") return t * 4 > 255 ? 255 : t * 4;
-    if (kind == "allbins") return (x + y * w) % 256;
-    return t;
 }
 
 // Right image: random grey levels smoothed by a 3x3 box (texture at the scale of a few
@@ -73,7 +61,7 @@ void makePair(int w, int h, int nd, const std::string& kind, std::vector<std::ui
                 }
             }
             const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-            right[i] = static_cast<std::uint8_t>(contentValue(kind, x, y, w, s / 9, noise[i]));
+            right[i] = static_cast<std::uint8_t>(vtm::bench::contentValue(kind, {255, 128, 60, 190}, x, y, w, s / 9, noise[i]));
         }
     }
     for (int y = 0; y < h; ++y) {
@@ -90,13 +78,11 @@ void makePair(int w, int h, int nd, const std::string& kind, std::vector<std::ui
 
 int main(int argc, char** argv) {
     if (argc != 5 && argc != 6) {
-        std::fprintf(stderr, "usage: %s WIDTH HEIGHT DISPARITIES REPEAT [texture|noise|flat|periodic|saturated|allbins]\n",
-                     argv[0]);
+        std::fprintf(stderr, "usage: %s WIDTH HEIGHT DISPARITIES REPEAT [%s]\n", argv[0], vtm::bench::kContents);
         return 2;
     }
     const std::string kind = argc == 6 ? argv[5] : "texture";
-    if (std::string(" texture noise flat periodic saturated allbins ").find(" " + kind + " ") == std::string::npos) {
-        std::fprintf(stderr, "stereo_insn_probe: CONTENT must be texture, noise, flat, periodic, saturated or allbins\n");
+    if (!vtm::bench::knownContent(kind, "stereo_insn_probe")) {
         return 2;
     }
     const int w = parseArg(argv[1], 16, 4096, "WIDTH");
