@@ -104,8 +104,10 @@ CLI::App* addRegisterCommand(CLI::App& app, RegisterOptions& o) {
     cmd->add_option("--shift-range", o.shift_range_px, "half-width of the shifts searched around it, px (default 16)");
     cmd->add_flag("--intensity", o.intensity, "match grey levels instead of entropy images (one sensor)");
     cmd->add_option("--equalise-radius", o.equalise_radius_px,
-                    "equalisation before the entropy: 0 over the whole image (flat products such as maps), "
-                    "1..63 px the rank within that radius (sensors whose response differs; default 12)");
+                    "equalisation before the entropy: 0 over the whole image (flat products such as maps), 1.." +
+                        std::to_string(entropy::kMaxEqualiseRadius) +
+                        " px the rank within that radius (sensors whose response differs; default " +
+                        std::to_string(o.equalise_radius_px) + ")");
     cmd->add_option("--out", o.out, "write G and the figures (text)");
     cmd->add_option("--entropy1", o.entropy1_png, "write image 1's matched (entropy) image, PNG");
     cmd->add_option("--entropy2", o.entropy2_png, "write image 2's matched (entropy) image, PNG");
@@ -118,9 +120,10 @@ int runRegister(const RegisterOptions& o) {
     entropy::RegistrationRequest request;
     const std::string bad = requestOf(o, request);
     if (!bad.empty()) return fail(kExitUsageError, bad);
-    if (o.equalise_radius_px < 0 || o.equalise_radius_px > 63) {
+    if (o.equalise_radius_px < 0 || o.equalise_radius_px > entropy::kMaxEqualiseRadius) {
         return fail(kExitUsageError, "--equalise-radius " + std::to_string(o.equalise_radius_px) +
-                                         ": must be 0 (whole image) .. 63 px");
+                                         ": must be 0 (whole image) .. " + std::to_string(entropy::kMaxEqualiseRadius) +
+                                         " px");
     }
     const ground::Result<ground::GreyImage> a = ground::loadGrey8(o.image1);
     if (!a.ok) return fail(kExitInputError, a.error);

@@ -1,5 +1,6 @@
 // `vtm register IMG1 IMG2 [--rotation MIN:MAX] [--scale MIN:MAX] [--shift X:Y]
-// [--shift-range PX] [--intensity] [--out FILE] [--entropy1 PNG] [--entropy2 PNG]`: the
+// [--shift-range PX] [--intensity] [--equalise-radius PX] [--out FILE] [--entropy1 PNG]
+// [--entropy2 PNG] [--matches PNG]`: the
 // multi-modal registration (fsw/entropy) run on the ground on two images of one place taken
 // by different sensors; prints and writes the similarity image 1 -> image 2
 // (docs/entropy.md "Command line").
@@ -7,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+
+#include "vtm/entropy/registration.hpp"
 
 namespace vtm::tools {
 
@@ -18,7 +21,8 @@ struct RegisterOptions {
     std::string shift = "0:0";        // expected t: image 1's centre in image 2 minus image 2's centre, px
     double shift_range_px = 16.0;     // half-width of the square of t searched, px
     bool intensity = false;           // match grey levels instead of entropy images (same sensor)
-    int equalise_radius_px = 12;      // the module's equalisation: 0 whole image, 1..63 local (docs/entropy.md)
+    // The module's equalisation (docs/entropy.md): 0 whole image, 1..kMaxEqualiseRadius local.
+    int equalise_radius_px = entropy::RegistrationConfig{}.equalise_radius_px;
     std::string out;                  // the 2x3 matrix and the figures (text)
     std::string entropy1_png;         // the entropy images (docs: the paper's Fig. 12)
     std::string entropy2_png;

@@ -64,7 +64,8 @@ Status RegistrationConfig::validate() const noexcept {
     if (fill_max_grey < -1 || fill_max_grey > 254) {
         return invalidConfig("registration.fill_max_grey: must be -1 (none) .. 254", fill_max_grey);
     }
-    if (equalise_radius_px < 0 || equalise_radius_px > detail::kMaxRankRadius) {
+    static_assert(kMaxEqualiseRadius <= detail::kMaxRankRadius, "the local rank's counts bound the radius");
+    if (equalise_radius_px < 0 || equalise_radius_px > kMaxEqualiseRadius) {
         return invalidConfig("registration.equalise_radius_px: must be 0 (whole image) .. 63", equalise_radius_px);
     }
     if (levels < 1 || levels > kMaxLevels) {
