@@ -101,7 +101,7 @@ build_preset() { cmake --preset "$@" > "build/configure-$1.log" 2>&1 || { cat "b
 # `cmake --preset leon3` still builds the tools, and `vtm run --target leon3` flies there.
 cross_args() {
   case "$1" in
-    ppc750) ;;
+    ppc750) echo "-DVTM_VECTORISER_DUMPS=ON" ;;  # read by tools/checks/vector_guard.py
     *) echo "-DVTM_BUILD_TOOLS=OFF" ;;
   esac
 }

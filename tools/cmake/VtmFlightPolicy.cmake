@@ -11,6 +11,7 @@
 #    go into space reserved in the caller's frame, as on every other target, instead of
 #    being pushed (GCC reports a pushing frame as "dynamic,bounded", which the budget
 #    rejects for flight code).
+#  - with VTM_VECTORISER_DUMPS, GCC's vectoriser report beside each object (vector_guard).
 add_library(vtm_flight_policy INTERFACE)
 target_compile_options(vtm_flight_policy INTERFACE
   -Wall -Wextra -Wconversion -Wsign-conversion -Wshadow -Wold-style-cast -Wcast-qual
@@ -21,6 +22,7 @@ target_compile_options(vtm_flight_policy INTERFACE
   $<$<CXX_COMPILER_ID:GNU>:-fstack-usage>
   $<$<CXX_COMPILER_ID:GNU>:-fcallgraph-info=su>
   $<$<AND:$<CXX_COMPILER_ID:GNU>,$<STREQUAL:${CMAKE_SYSTEM_PROCESSOR},x86_64>>:-maccumulate-outgoing-args>
+  $<$<AND:$<CXX_COMPILER_ID:GNU>,$<BOOL:${VTM_VECTORISER_DUMPS}>>:-fdump-tree-vect-details>
   ${VTM_FLIGHT_CPU_FLAGS})  # CPU flags for flight code only (set by a toolchain file)
 target_compile_definitions(vtm_flight_policy INTERFACE
   EIGEN_DONT_VECTORIZE EIGEN_NO_MALLOC EIGEN_MAX_STATIC_ALIGN_BYTES=0
