@@ -23,21 +23,22 @@
 #include "test_data.hpp"
 #include "vtm/core/arena.hpp"
 #include "vtm/core/camera_model.hpp"
-#include "vtm/ground/disparity_colormap.hpp"
 #include "vtm/ground/image_io.hpp"
 #include "vtm/refine/pair_refiner.hpp"
 #include "vtm/rectify/rectifier.hpp"
-#include "vtm/stereo/ml_stereo.hpp"
-#include "vtm/stereo/speckle_filter.hpp"
 
 namespace vtm {
 namespace {
 
+using test::DenseMap;
+using test::denseMap;
 using test::greyView;
+using test::matchDisparities;
 using test::rowStats;
 using test::RowStats;
 using test::siftMatches;
 using test::Workspace;
+using test::writeDisparityPng;
 
 const std::string kDir = vtm::test::testDataSet("msl_navcam");
 const std::string kLeft = kDir + "NLB_524534514EDR_F0562034NCAM00280M_.jpeg";
@@ -115,55 +116,20 @@ TEST_F(MslNavcam, RefinedFromTheNominalGeometryRectifiedAndMapped) {
     // 3. ML stereo on the rectified pair, over the disparities of the refiner's inliers
     //    (their rectified x_a - x_b) widened by 8 px below and 16 px above (nearer ground
     //    than the nearest inlier); the left-right check and uniqueness on.
-    double d_lo = 1e9, d_hi = -1e9;
-    for (std::size_t i = 0; i < inl_a.size(); ++i) {
-        Vec2 ra, rb;
-        if (rectifier.rectifyPixel(rectify::Rectifier::Side::kA, inl_a[i], ra).isOk() &&
-            rectifier.rectifyPixel(rectify::Rectifier::Side::kB, inl_b[i], rb).isOk()) {
-            d_lo = std::min(d_lo, ra.x() - rb.x());
-            d_hi = std::max(d_hi, ra.x() - rb.x());
-        }
-    }
+    const std::vector<double> inlier_d = matchDisparities(rectifier, inl_a, inl_b);
+    ASSERT_GE(inlier_d.size(), 2U);
+    const double d_lo = *std::min_element(inlier_d.begin(), inlier_d.end());
+    const double d_hi = *std::max_element(inlier_d.begin(), inlier_d.end());
     ASSERT_LT(d_lo, d_hi);
-    cv::Mat rect_a(kSide, kSide, CV_8UC1), rect_b(kSide, kSide, CV_8UC1);
-    ASSERT_TRUE(rectifier.remap(rectify::Rectifier::Side::kA, greyView(left_),
-                                ImageView<std::uint8_t>(rect_a.ptr<std::uint8_t>(0), kSide, kSide)).isOk());
-    ASSERT_TRUE(rectifier.remap(rectify::Rectifier::Side::kB, greyView(right_),
-                                ImageView<std::uint8_t>(rect_b.ptr<std::uint8_t>(0), kSide, kSide)).isOk());
-    stereo::Config sc = stereo::Config::conservative();
-    sc.max_width = sc.max_height = kSide;
-    sc.d_min = static_cast<std::int32_t>(std::floor(d_lo)) - 8;
-    sc.d_max = static_cast<std::int32_t>(std::ceil(d_hi)) + 16;
-    ASSERT_TRUE(sc.validate().isOk()) << sc.validate().reason();
-    Workspace sw(stereo::MlStereo::workspaceBytes(sc));
-    stereo::MlStereo ml;
-    ASSERT_TRUE(ml.init(sc, sw.arena).isOk());
-    std::vector<std::int16_t> disp(static_cast<std::size_t>(kSide) * kSide);
-    const stereo::DisparityOutput out{ImageView<std::int16_t>(disp.data(), kSide, kSide), ImageView<float>(),
-                                      ImageView<std::uint8_t>()};
-    ASSERT_TRUE(ml.compute(greyView(rect_a), greyView(rect_b), out).isOk());
-    // The speckle filter as the rover mapper runs it (islands of at most 100 px, 3 px steps).
-    stereo::SpeckleConfig fc;
-    fc.max_width = fc.max_height = kSide;
-    fc.max_diff_px16 = 3 * stereo::kDisparityScale;
-    Workspace fw(stereo::SpeckleFilter::workspaceBytes(fc));
-    stereo::SpeckleFilter speckles;
-    ASSERT_TRUE(speckles.init(fc, fw.arena).isOk());
-    ASSERT_TRUE(speckles.apply(out).isOk());
-    std::int64_t content = 0, mapped = 0;
+    DenseMap dense;
+    const Status ds = denseMap(rectifier, refined, left_, right_, static_cast<std::int32_t>(std::floor(d_lo)) - 8,
+                               static_cast<std::int32_t>(std::ceil(d_hi)) + 16, dense);
+    ASSERT_TRUE(ds.isOk()) << ds.reason();
     std::vector<double> quarter[4];
     for (std::int32_t y = 0; y < kSide; ++y) {
         for (std::int32_t x = 0; x < kSide; ++x) {
-            std::int16_t xq, yq;
-            if (!rectifier.tableEntry(rectify::Rectifier::Side::kA, x, y, xq, yq).isOk() ||
-                xq == rectify::kOutsideInput) {
-                continue;
-            }
-            ++content;
-            const std::int16_t d = disp[static_cast<std::size_t>(y) * kSide + static_cast<std::size_t>(x)];
-            if (d == stereo::kNoDisparity) continue;
-            ++mapped;
-            quarter[4 * y / kSide].push_back(static_cast<double>(d) / stereo::kDisparityScale);
+            double d = 0.0;
+            if (dense.at(x, y, d)) quarter[4 * y / kSide].push_back(d);
         }
     }
     double median[4] = {0.0, 0.0, 0.0, 0.0};
@@ -172,7 +138,7 @@ TEST_F(MslNavcam, RefinedFromTheNominalGeometryRectifiedAndMapped) {
         std::nth_element(quarter[t].begin(), quarter[t].begin() + quarter[t].size() / 2, quarter[t].end());
         median[t] = quarter[t][quarter[t].size() / 2];
     }
-    const double share = content > 0 ? static_cast<double>(mapped) / static_cast<double>(content) : 0.0;
+    const double share = dense.share();
 
     std::printf("[ msl ] %d features, %zu matches, %zu inliers; RMS %.3f -> %.3f px; rotation change %.3f deg, "
                 "direction change %.2f deg; predicted vd %.3f px\n",
@@ -185,7 +151,7 @@ TEST_F(MslNavcam, RefinedFromTheNominalGeometryRectifiedAndMapped) {
     std::printf("[ msl ] refiner's inliers after rectification: RMS %.3f px; disparities searched %d..%d px; mapped %.1f %% "
                 "of %lld rectified pixels with content; median disparity by quarter of the rows, top to bottom "
                 "%.1f / %.1f / %.1f / %.1f px (%zu / %zu / %zu / %zu disparities)\n",
-                inliers_refined.rms_px, sc.d_min, sc.d_max, 100.0 * share, static_cast<long long>(content),
+                inliers_refined.rms_px, dense.d_min, dense.d_max, 100.0 * share, static_cast<long long>(dense.content),
                 median[0], median[1], median[2], median[3], quarter[0].size(), quarter[1].size(), quarter[2].size(),
                 quarter[3].size());
     const Vec3& t = res.refined.b_from_a.t_m;
@@ -203,20 +169,10 @@ TEST_F(MslNavcam, RefinedFromTheNominalGeometryRectifiedAndMapped) {
 
     if (const char* dir = std::getenv("VTM_MSL_OUT")) {
         const std::string d(dir);
-        cv::imwrite(d + "/msl-rectified1.png", rect_a);
-        cv::imwrite(d + "/msl-rectified2.png", rect_b);
-        cv::Mat colour(kSide, kSide, CV_8UC3, cv::Scalar(0, 0, 0));
-        const float lo = static_cast<float>(std::max(0.0, median[1] - 10.0));
-        const float hi = static_cast<float>(median[3] + 20.0);
-        for (std::int32_t y = 0; y < kSide; ++y) {
-            for (std::int32_t x = 0; x < kSide; ++x) {
-                const std::int16_t v = disp[static_cast<std::size_t>(y) * kSide + static_cast<std::size_t>(x)];
-                if (v == stereo::kNoDisparity) continue;
-                const ground::Rgb c = ground::disparityColor(static_cast<float>(v) / stereo::kDisparityScale, lo, hi);
-                colour.at<cv::Vec3b>(y, x) = cv::Vec3b(c[2], c[1], c[0]);
-            }
-        }
-        cv::imwrite(d + "/msl-disparity.png", colour);
+        cv::imwrite(d + "/msl-rectified1.png", dense.rect_a);
+        cv::imwrite(d + "/msl-rectified2.png", dense.rect_b);
+        writeDisparityPng(d + "/msl-disparity.png", dense, static_cast<float>(std::max(0.0, median[1] - 10.0)),
+                          static_cast<float>(median[3] + 20.0));
     }
 }
 

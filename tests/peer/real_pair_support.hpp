@@ -1,21 +1,27 @@
 // What the real-pair tests share (tests/peer: the Curiosity Navcam pair, the Strecha
 // wide-baseline views): module workspaces over a vector, OpenCV SIFT matches found
-// independently of the flight modules, and the vertical disparity of matches after
-// rectification.
+// independently of the flight modules, the vertical disparity of matches after
+// rectification, and the dense ML stereo of a rectified pair with its picture.
 #pragma once
 
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "vtm/core/arena.hpp"
 #include "vtm/core/eigen.hpp"
 #include "vtm/core/image.hpp"
+#include "vtm/ground/disparity_colormap.hpp"
 #include "vtm/rectify/rectifier.hpp"
+#include "vtm/stereo/ml_stereo.hpp"
+#include "vtm/stereo/speckle_filter.hpp"
 
 namespace vtm::test {
 
@@ -85,6 +91,107 @@ inline void siftMatches(const cv::Mat& left, const cv::Mat& right, std::vector<V
         a.emplace_back(pa.x, pa.y);
         b.emplace_back(pb.x, pb.y);
     }
+}
+
+// Disparities x_a - x_b of matches after rectification (those both sides rectify).
+inline std::vector<double> matchDisparities(const rectify::Rectifier& r, const std::vector<Vec2>& a,
+                                            const std::vector<Vec2>& b) {
+    std::vector<double> d;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        Vec2 ra, rb;
+        if (r.rectifyPixel(rectify::Rectifier::Side::kA, a[i], ra).isOk() &&
+            r.rectifyPixel(rectify::Rectifier::Side::kB, b[i], rb).isOk()) {
+            d.push_back(ra.x() - rb.x());
+        }
+    }
+    return d;
+}
+
+// The dense map of a rectified pair as the real-pair tests make it: both images remapped,
+// the ML stereo with its left-right check and uniqueness (Config::conservative()) over
+// [d_min, d_max], then the speckle filter as the rover mapper runs it (islands of at most
+// 100 px, 3 px steps). content: A's rectified pixels that see the input image; mapped: those
+// of them with a disparity (a pixel without content keeps none).
+struct DenseMap {
+    cv::Mat rect_a, rect_b;
+    std::vector<std::int16_t> disp;  // 1/16 px (stereo::kDisparityScale), kNoDisparity where none
+    std::int32_t d_min = 0, d_max = 0;
+    std::int64_t content = 0, mapped = 0;
+    [[nodiscard]] double share() const { return content > 0 ? static_cast<double>(mapped) / static_cast<double>(content) : 0.0; }
+    // Disparity (px) at rectified pixel (x, y) of A; false where there is none or outside.
+    [[nodiscard]] bool at(std::int32_t x, std::int32_t y, double& d_px) const {
+        if (x < 0 || y < 0 || x >= rect_a.cols || y >= rect_a.rows) return false;
+        const std::int16_t v = disp[static_cast<std::size_t>(y) * static_cast<std::size_t>(rect_a.cols) + static_cast<std::size_t>(x)];
+        if (v == stereo::kNoDisparity) return false;
+        d_px = static_cast<double>(v) / stereo::kDisparityScale;
+        return true;
+    }
+};
+
+// Fills `out` for the pair `r` was last computed for (`pair`: its rectified size); the
+// first failing module's Status otherwise.
+inline Status denseMap(const rectify::Rectifier& r, const rectify::RectifiedPair& pair, const cv::Mat& image_a,
+                       const cv::Mat& image_b, std::int32_t d_min, std::int32_t d_max, DenseMap& out) {
+    const std::int32_t w = pair.model_a.width_px, h = pair.model_a.height_px;
+    out.rect_a = cv::Mat(h, w, CV_8UC1);
+    out.rect_b = cv::Mat(h, w, CV_8UC1);
+    VTM_RETURN_IF_ERROR(r.remap(rectify::Rectifier::Side::kA, greyView(image_a),
+                                ImageView<std::uint8_t>(out.rect_a.ptr<std::uint8_t>(0), w, h)));
+    VTM_RETURN_IF_ERROR(r.remap(rectify::Rectifier::Side::kB, greyView(image_b),
+                                ImageView<std::uint8_t>(out.rect_b.ptr<std::uint8_t>(0), w, h)));
+    stereo::Config sc = stereo::Config::conservative();
+    sc.max_width = w;
+    sc.max_height = h;
+    sc.d_min = d_min;
+    sc.d_max = d_max;
+    out.d_min = d_min;
+    out.d_max = d_max;
+    Workspace sw(stereo::MlStereo::workspaceBytes(sc));
+    stereo::MlStereo ml;
+    VTM_RETURN_IF_ERROR(ml.init(sc, sw.arena));
+    out.disp.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), stereo::kNoDisparity);
+    const stereo::DisparityOutput dout{ImageView<std::int16_t>(out.disp.data(), w, h), ImageView<float>(),
+                                       ImageView<std::uint8_t>()};
+    VTM_RETURN_IF_ERROR(ml.compute(greyView(out.rect_a), greyView(out.rect_b), dout));
+    stereo::SpeckleConfig fc;
+    fc.max_width = w;
+    fc.max_height = h;
+    fc.max_diff_px16 = 3 * stereo::kDisparityScale;
+    Workspace fw(stereo::SpeckleFilter::workspaceBytes(fc));
+    stereo::SpeckleFilter speckles;
+    VTM_RETURN_IF_ERROR(speckles.init(fc, fw.arena));
+    VTM_RETURN_IF_ERROR(speckles.apply(dout));
+    out.content = out.mapped = 0;
+    for (std::int32_t y = 0; y < h; ++y) {
+        for (std::int32_t x = 0; x < w; ++x) {
+            std::int16_t xq = 0, yq = 0;
+            if (!r.tableEntry(rectify::Rectifier::Side::kA, x, y, xq, yq).isOk() || xq == rectify::kOutsideInput) {
+                // no input behind the pixel: a disparity of the fill value means nothing
+                out.disp[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+                    stereo::kNoDisparity;
+                continue;
+            }
+            ++out.content;
+            double d = 0.0;
+            out.mapped += out.at(x, y, d) ? 1 : 0;
+        }
+    }
+    return Status::ok();
+}
+
+// The disparity picture of a dense map (ground::disparityColor from lo to hi px, black
+// where there is none) written as a PNG.
+inline bool writeDisparityPng(const std::string& path, const DenseMap& m, float lo_px, float hi_px) {
+    cv::Mat colour(m.rect_a.rows, m.rect_a.cols, CV_8UC3, cv::Scalar(0, 0, 0));
+    for (std::int32_t y = 0; y < m.rect_a.rows; ++y) {
+        for (std::int32_t x = 0; x < m.rect_a.cols; ++x) {
+            double d = 0.0;
+            if (!m.at(x, y, d)) continue;
+            const ground::Rgb c = ground::disparityColor(static_cast<float>(d), lo_px, hi_px);
+            colour.at<cv::Vec3b>(y, x) = cv::Vec3b(c[2], c[1], c[0]);
+        }
+    }
+    return cv::imwrite(path, colour);
 }
 
 }  // namespace vtm::test
