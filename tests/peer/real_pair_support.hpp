@@ -43,16 +43,25 @@ struct RowStats {
     double median_abs = 0.0;  // of all
 };
 
-// Vertical disparity y_a - y_b of matches after rectification.
-inline RowStats rowStats(const rectify::Rectifier& r, const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
-    std::vector<double> vd;
+// Matches a[i] <-> b[i] after rectification: the rectified difference a - b of each match
+// that both sides rectify (x: the disparity, y: the vertical disparity).
+inline std::vector<Vec2> rectifiedDifferences(const rectify::Rectifier& r, const std::vector<Vec2>& a,
+                                              const std::vector<Vec2>& b) {
+    std::vector<Vec2> diff;
     for (std::size_t i = 0; i < a.size(); ++i) {
         Vec2 ra, rb;
         if (r.rectifyPixel(rectify::Rectifier::Side::kA, a[i], ra).isOk() &&
             r.rectifyPixel(rectify::Rectifier::Side::kB, b[i], rb).isOk()) {
-            vd.push_back(ra.y() - rb.y());
+            diff.push_back(ra - rb);
         }
     }
+    return diff;
+}
+
+// Vertical disparity y_a - y_b of matches after rectification.
+inline RowStats rowStats(const rectify::Rectifier& r, const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+    std::vector<double> vd;
+    for (const Vec2& d : rectifiedDifferences(r, a, b)) vd.push_back(d.y());
     RowStats s;
     s.count = vd.size();
     if (vd.empty()) return s;
@@ -97,13 +106,7 @@ inline void siftMatches(const cv::Mat& left, const cv::Mat& right, std::vector<V
 inline std::vector<double> matchDisparities(const rectify::Rectifier& r, const std::vector<Vec2>& a,
                                             const std::vector<Vec2>& b) {
     std::vector<double> d;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        Vec2 ra, rb;
-        if (r.rectifyPixel(rectify::Rectifier::Side::kA, a[i], ra).isOk() &&
-            r.rectifyPixel(rectify::Rectifier::Side::kB, b[i], rb).isOk()) {
-            d.push_back(ra.x() - rb.x());
-        }
-    }
+    for (const Vec2& diff : rectifiedDifferences(r, a, b)) d.push_back(diff.x());
     return d;
 }
 
