@@ -77,23 +77,92 @@ void sampleTemplate(const ImageView<const std::uint8_t>& img, const Vec2& a, dou
 // J = (gx, gy, gx u, gx v, gy u, gy v, -A, -1) at window offset (u, v). Its entries are
 // sums of a few products per pixel times 1, u, v, u^2, u v, v^2: each row of the window
 // (v fixed) sums the products times 1, u, u^2, and the row's sums enter the entries with
-// v and v^2. A's own sums (A^2, A, the count) do not change between steps: `a` holds them.
+// v and v^2. A's own sums (A^2, A, the count) do not change between steps (TemplateSums).
 struct TemplateSums {
     double aa = 0.0, a = 0.0, n = 0.0;
 };
 
+// One window row's sums over u (v fixed): the products times 1, u, u^2 (quadratic
+// entries) or times 1, u (the entries linear in the window offset).
+struct RowSums {
+    double xx[3] = {}, xy[3] = {}, yy[3] = {};
+    double xa[2] = {}, ya[2] = {}, gx[2] = {}, gy[2] = {}, xe[2] = {}, ye[2] = {};
+
+    void add(double g_x, double g_y, double ia, double e, double du) noexcept {
+        const double pxx = g_x * g_x, pxy = g_x * g_y, pyy = g_y * g_y;
+        const double du2 = du * du;
+        addQuadratic(xx, pxx, du, du2);
+        addQuadratic(xy, pxy, du, du2);
+        addQuadratic(yy, pyy, du, du2);
+        addLinear(xa, g_x * ia, du);
+        addLinear(ya, g_y * ia, du);
+        addLinear(gx, g_x, du);
+        addLinear(gy, g_y, du);
+        addLinear(xe, g_x * e, du);
+        addLinear(ye, g_y * e, du);
+    }
+    static void addQuadratic(double* acc, double value, double du, double du2) noexcept {
+        acc[0] += value;
+        acc[1] += value * du;
+        acc[2] += value * du2;
+    }
+    static void addLinear(double* acc, double value, double du) noexcept {
+        acc[0] += value;
+        acc[1] += value * du;
+    }
+};
+
+// The whole window's sums: quadratic entries times 1, u, v, u^2, u v, v^2; linear ones
+// times 1, u, v; A e and e summed pixel by pixel.
+struct WindowSums {
+    double xx[6] = {}, xy[6] = {}, yy[6] = {};
+    double xa[3] = {}, ya[3] = {}, gx[3] = {}, gy[3] = {}, xe[3] = {}, ye[3] = {};
+    double ae = 0.0, e1 = 0.0;
+
+    void addRow(const RowSums& r, double dv) noexcept {
+        addQuadratic(xx, r.xx, dv);
+        addQuadratic(xy, r.xy, dv);
+        addQuadratic(yy, r.yy, dv);
+        addLinear(xa, r.xa, dv);
+        addLinear(ya, r.ya, dv);
+        addLinear(gx, r.gx, dv);
+        addLinear(gy, r.gy, dv);
+        addLinear(xe, r.xe, dv);
+        addLinear(ye, r.ye, dv);
+    }
+    static void addQuadratic(double* acc, const double* row, double dv) noexcept {
+        acc[0] += row[0];
+        acc[1] += row[1];
+        acc[2] += row[0] * dv;
+        acc[3] += row[2];
+        acc[4] += row[1] * dv;
+        acc[5] += row[0] * dv * dv;
+    }
+    static void addLinear(double* acc, const double* row, double dv) noexcept {
+        acc[0] += row[0];
+        acc[1] += row[1];
+        acc[2] += row[0] * dv;
+    }
+    // J^T J and J^T e in the parameter order (bx, by, w00, w01, w10, w11, gain, offset).
+    void normalEquations(const TemplateSums& ts, Mat8& jtj, Vec8& jtr) const noexcept {
+        jtj << xx[0], xy[0], xx[1], xx[2], xy[1], xy[2], -xa[0], -gx[0],  //
+            xy[0], yy[0], xy[1], xy[2], yy[1], yy[2], -ya[0], -gy[0],      //
+            xx[1], xy[1], xx[3], xx[4], xy[3], xy[4], -xa[1], -gx[1],      //
+            xx[2], xy[2], xx[4], xx[5], xy[4], xy[5], -xa[2], -gx[2],      //
+            xy[1], yy[1], xy[3], xy[4], yy[3], yy[4], -ya[1], -gy[1],      //
+            xy[2], yy[2], xy[4], xy[5], yy[4], yy[5], -ya[2], -gy[2],      //
+            -xa[0], -ya[0], -xa[1], -xa[2], -ya[1], -ya[2], ts.aa, ts.a,  //
+            -gx[0], -gy[0], -gx[1], -gx[2], -gy[1], -gy[2], ts.a, ts.n;
+        jtr << xe[0], ye[0], xe[1], xe[2], ye[1], ye[2], -ae, -e1;
+    }
+};
+
 void normalEquations(const ImageView<const std::uint8_t>& img_b, const double* values_a, const TemplateSums& ts,
                      const Params& p, Mat8& jtj, Vec8& jtr) noexcept {
-    // Whole-window sums: [product][power]: power 0: 1, 1: u, 2: v, 3: u^2, 4: u v, 5: v^2.
-    double xx[6] = {}, xy[6] = {}, yy[6] = {};
-    double xa[3] = {}, ya[3] = {}, gx1[3] = {}, gy1[3] = {};  // powers 1, u, v
-    double xe[3] = {}, ye[3] = {};                              // gx e, gy e: 1, u, v
-    double ae = 0.0, e1 = 0.0;
+    WindowSums w;
     std::int32_t i = 0;
     for (std::int32_t v = -kHalf; v <= kHalf; ++v) {
-        // This row's sums over u: [0]: 1, [1]: u, [2]: u^2 (products), [0..1] (linear terms).
-        double rxx[3] = {}, rxy[3] = {}, ryy[3] = {}, rxa[2] = {}, rya[2] = {}, rgx[2] = {}, rgy[2] = {};
-        double rxe[2] = {}, rye[2] = {};
+        RowSums r;
         const double dv = static_cast<double>(v);
         for (std::int32_t u = -kHalf; u <= kHalf; ++u) {
             const double du = static_cast<double>(u);
@@ -104,66 +173,13 @@ void normalEquations(const ImageView<const std::uint8_t>& img_b, const double* v
             const double ia = values_a[i];
             ++i;
             const double e = ib - (p.gain * ia + p.offset);
-            const double pxx = gx * gx, pxy = gx * gy, pyy = gy * gy;
-            const double du2 = du * du;
-            rxx[0] += pxx;
-            rxx[1] += pxx * du;
-            rxx[2] += pxx * du2;
-            rxy[0] += pxy;
-            rxy[1] += pxy * du;
-            rxy[2] += pxy * du2;
-            ryy[0] += pyy;
-            ryy[1] += pyy * du;
-            ryy[2] += pyy * du2;
-            const double pxa = gx * ia, pya = gy * ia, pxe = gx * e, pye = gy * e;
-            rxa[0] += pxa;
-            rxa[1] += pxa * du;
-            rya[0] += pya;
-            rya[1] += pya * du;
-            rgx[0] += gx;
-            rgx[1] += gx * du;
-            rgy[0] += gy;
-            rgy[1] += gy * du;
-            rxe[0] += pxe;
-            rxe[1] += pxe * du;
-            rye[0] += pye;
-            rye[1] += pye * du;
-            ae += ia * e;
-            e1 += e;
+            r.add(gx, gy, ia, e, du);
+            w.ae += ia * e;
+            w.e1 += e;
         }
-        const auto addQuadratic = [dv](double* acc, const double* row) {
-            acc[0] += row[0];
-            acc[1] += row[1];
-            acc[2] += row[0] * dv;
-            acc[3] += row[2];
-            acc[4] += row[1] * dv;
-            acc[5] += row[0] * dv * dv;
-        };
-        const auto addLinear = [dv](double* acc, const double* row) {
-            acc[0] += row[0];
-            acc[1] += row[1];
-            acc[2] += row[0] * dv;
-        };
-        addQuadratic(xx, rxx);
-        addQuadratic(xy, rxy);
-        addQuadratic(yy, ryy);
-        addLinear(xa, rxa);
-        addLinear(ya, rya);
-        addLinear(gx1, rgx);
-        addLinear(gy1, rgy);
-        addLinear(xe, rxe);
-        addLinear(ye, rye);
+        w.addRow(r, dv);
     }
-    // Rows of J^T J in the parameter order (bx, by, w00, w01, w10, w11, gain, offset).
-    jtj << xx[0], xy[0], xx[1], xx[2], xy[1], xy[2], -xa[0], -gx1[0],  //
-        xy[0], yy[0], xy[1], xy[2], yy[1], yy[2], -ya[0], -gy1[0],      //
-        xx[1], xy[1], xx[3], xx[4], xy[3], xy[4], -xa[1], -gx1[1],      //
-        xx[2], xy[2], xx[4], xx[5], xy[4], xy[5], -xa[2], -gx1[2],      //
-        xy[1], yy[1], xy[3], xy[4], yy[3], yy[4], -ya[1], -gy1[1],      //
-        xy[2], yy[2], xy[4], xy[5], yy[4], yy[5], -ya[2], -gy1[2],      //
-        -xa[0], -ya[0], -xa[1], -xa[2], -ya[1], -ya[2], ts.aa, ts.a,   //
-        -gx1[0], -gy1[0], -gx1[1], -gx1[2], -gy1[1], -gy1[2], ts.a, ts.n;
-    jtr << xe[0], ye[0], xe[1], xe[2], ye[1], ye[2], -ae, -e1;
+    w.normalEquations(ts, jtj, jtr);
 }
 
 // NCC of A's window with B's warped window at p; -1 when either is flat.
