@@ -33,6 +33,7 @@ namespace {
 using test::DenseMap;
 using test::denseMap;
 using test::greyView;
+using test::inlierPixels;
 using test::matchDisparities;
 using test::rowStats;
 using test::RowStats;
@@ -88,12 +89,7 @@ TEST_F(MslNavcam, RefinedFromTheNominalGeometryRectifiedAndMapped) {
     const Status st = refiner.refine(rq, res);
     ASSERT_TRUE(st.isOk()) << st.reason();
     std::vector<Vec2> inl_a, inl_b;
-    for (std::size_t i = 0; i < res.inliers.size(); ++i) {
-        if (res.inliers[i] != 0U) {
-            inl_a.push_back(res.pixels_a[i]);
-            inl_b.push_back(res.pixels_b[i]);
-        }
-    }
+    inlierPixels(res, inl_a, inl_b);
     EXPECT_GE(inl_a.size(), 50U);
 
     // 2. Rectification of the nominal and of the refined pair; rows of independent matches.

@@ -20,6 +20,7 @@
 #include "vtm/core/image.hpp"
 #include "vtm/ground/disparity_colormap.hpp"
 #include "vtm/rectify/rectifier.hpp"
+#include "vtm/refine/pair_refiner.hpp"
 #include "vtm/stereo/ml_stereo.hpp"
 #include "vtm/stereo/speckle_filter.hpp"
 
@@ -99,6 +100,18 @@ inline void siftMatches(const cv::Mat& left, const cv::Mat& right, std::vector<V
         const cv::Point2f pb = kb[static_cast<std::size_t>(m[0].trainIdx)].pt;
         a.emplace_back(pa.x, pa.y);
         b.emplace_back(pb.x, pb.y);
+    }
+}
+
+// The refiner's inlier matches: pixel in A and in B of each.
+inline void inlierPixels(const refine::Result& r, std::vector<Vec2>& a, std::vector<Vec2>& b) {
+    a.clear();
+    b.clear();
+    for (std::size_t i = 0; i < r.inliers.size(); ++i) {
+        if (r.inliers[i] != 0U) {
+            a.push_back(r.pixels_a[i]);
+            b.push_back(r.pixels_b[i]);
+        }
     }
 }
 

@@ -39,6 +39,7 @@ namespace {
 using test::DenseMap;
 using test::denseMap;
 using test::greyView;
+using test::inlierPixels;
 using test::matchDisparities;
 using test::rowStats;
 using test::RowStats;
@@ -195,8 +196,8 @@ void runOpenCv(const View& a, const View& b, PairRun& run) {
     run.opencv = errorsOf(r, Vec3(t.at<double>(0), t.at<double>(1), t.at<double>(2)), truth);
 }
 
-// Sampson distance (px) of a match under the true relative pose of the two views.
-double trueSampsonPx(const View& a, const View& b, const Vec2& pa, const Vec2& pb) {
+// The fundamental matrix of the two views' TRUE cameras (x_b^T F x_a = 0).
+Mat3 trueFundamental(const View& a, const View& b) {
     const RigidPose truth = relativePose(a.site_from_cam, b.site_from_cam);
     const Vec3& t = truth.t_m;
     Mat3 tx;
@@ -204,7 +205,11 @@ double trueSampsonPx(const View& a, const View& b, const Vec2& pa, const Vec2& p
     Mat3 ka, kb;
     ka << a.model.fx_px, 0.0, a.model.cx_px, 0.0, a.model.fy_px, a.model.cy_px, 0.0, 0.0, 1.0;
     kb << b.model.fx_px, 0.0, b.model.cx_px, 0.0, b.model.fy_px, b.model.cy_px, 0.0, 0.0, 1.0;
-    const Mat3 f = kb.inverse().transpose() * tx * truth.R * ka.inverse();
+    return kb.inverse().transpose() * tx * truth.R * ka.inverse();
+}
+
+// Sampson distance (px) of a match under the fundamental matrix f.
+double sampsonPx(const Mat3& f, const Vec2& pa, const Vec2& pb) {
     const Vec3 xa(pa.x(), pa.y(), 1.0), xb(pb.x(), pb.y(), 1.0);
     const Vec3 fa = f * xa, fb = f.transpose() * xb;
     const double e = xb.dot(fa);
@@ -216,12 +221,7 @@ double trueSampsonPx(const View& a, const View& b, const Vec2& pa, const Vec2& p
 void mapDense(const View& a, const View& b, const rectify::Rectifier& rectifier, const rectify::RectifiedPair& pair,
               PairRun& run) {
     std::vector<Vec2> inl_a, inl_b;
-    for (std::size_t i = 0; i < run.result.inliers.size(); ++i) {
-        if (run.result.inliers[i] != 0U) {
-            inl_a.push_back(run.result.pixels_a[i]);
-            inl_b.push_back(run.result.pixels_b[i]);
-        }
-    }
+    inlierPixels(run.result, inl_a, inl_b);
     const std::vector<double> inlier_d = matchDisparities(rectifier, inl_a, inl_b);
     DenseCheck& c = run.dense;
     if (inlier_d.size() < 2U) {
@@ -242,10 +242,10 @@ void mapDense(const View& a, const View& b, const rectify::Rectifier& rectifier,
     }
     c.done = true;
     c.share = dense.share();
+    const Mat3 f = trueFundamental(a, b);
     std::vector<double> diff;
-    std::vector<double> found;
     for (std::size_t i = 0; i < run.sift_a.size(); ++i) {
-        if (trueSampsonPx(a, b, run.sift_a[i], run.sift_b[i]) > 1.0) continue;
+        if (sampsonPx(f, run.sift_a[i], run.sift_b[i]) > 1.0) continue;
         Vec2 ra, rb;
         if (!rectifier.rectifyPixel(rectify::Rectifier::Side::kA, run.sift_a[i], ra).isOk() ||
             !rectifier.rectifyPixel(rectify::Rectifier::Side::kB, run.sift_b[i], rb).isOk()) {
@@ -261,7 +261,6 @@ void mapDense(const View& a, const View& b, const rectify::Rectifier& rectifier,
         double d = 0.0;
         if (dense.at(x, y, d)) {
             diff.push_back(std::fabs(d - (ra.x() - rb.x())));
-            found.push_back(d);
         }
     }
     c.mapped = diff.size();
