@@ -1,6 +1,7 @@
 // The template matcher's fast search kernels against their plain forms in the same run:
-// PolylineScan against nearestVertex / withinPolyline, and the NCC pruning (nccIfAbove)
-// against the score it skips. Both must give the same answers bit for bit, or the matches
+// PolylineScan against nearestVertex / withinPolyline (and its span against every position
+// within), the slid column sums and the products-only pass against the one-pass window
+// sums, and the NCC pruning (nccIfAbove) against the score it skips. Both must give the same answers bit for bit, or the matches
 // (and every product downstream) would change.
 #include <gtest/gtest.h>
 
@@ -46,7 +47,8 @@ std::vector<Vec2> rayLike(Random& rng, std::int32_t n) {
 
 TEST(PolylineScan, GivesTheSameVertexAndMembershipAsThePlainFunctions) {
     Random rng(2026);
-    std::int64_t within = 0, tested = 0;
+    std::int64_t within = 0, tested = 0, rows = 0;
+    double spans = 0.0;
     for (std::int32_t trial = 0; trial < 80; ++trial) {
         const std::int32_t n = 1 + static_cast<std::int32_t>(rng.uniformInt(0, kMaxPolylineVertices - 1));
         const std::vector<Vec2> poly = rayLike(rng, n);
@@ -65,8 +67,20 @@ TEST(PolylineScan, GivesTheSameVertexAndMembershipAsThePlainFunctions) {
                 within += w ? 1 : 0;
                 ++tested;
             }
+            // span(): every position within lies inside it (it is what the search visits).
+            double lo = 0.0, hi = 0.0;
+            scan.span(lo, hi);
+            for (std::int32_t x = -60; x < 280; ++x) {
+                if (withinPolyline(Vec2(x, y), poly.data(), static_cast<std::int32_t>(poly.size()), margin * margin)) {
+                    ASSERT_TRUE(x >= lo && x <= hi) << "trial " << trial << " at " << x << ", " << y;
+                }
+            }
+            spans += (hi >= lo) ? hi - lo : 0.0;
+            ++rows;
         }
     }
+    // span() is narrower than the scanned rows on average: it skips positions.
+    EXPECT_LT(spans / static_cast<double>(rows), 200.0);
     // Both answers were exercised.
     EXPECT_GT(within, tested / 20);
     EXPECT_LT(within, tested - tested / 20);
@@ -97,10 +111,28 @@ TEST(TemplateNcc, PruningNeverSkipsAScoreAboveTheBestAndTheKernelsAgree) {
         setTemplateSums(t, half);
         setTemplateSums(u, half);
         const Template* both[2] = {&t, &u};
+        // Column sums over the whole width, set on the first row and slid down after.
+        std::vector<std::uint32_t> col(kSize), col_sq(kSize);
+        ColumnSums columns{col.data(), col_sq.data(), 0, kSize - 1, 0};
         for (std::int32_t y = half; y < kSize - half; ++y) {
-            for (std::int32_t x = half; x < kSize - half; ++x) {
+            if (y == half) {
+                setColumnSums(columns, to, y, half);
+            } else {
+                slideColumnSums(columns, to, half);
+            }
+            // Mostly consecutive positions (the window slid along the row), some skipped
+            // (summed anew).
+            for (std::int32_t x = half; x < kSize - half; x += (rng.uniform01() < 0.8 ? 1 : 2)) {
                 double cross[2] = {};
                 const WindowStats w = windowAndCrossSums(both, 2, to, Pos{x, y}, half, cross);
+                // The window's sums from the slid columns and the products alone: the same bits.
+                const WindowStats wc = windowFromColumns(columns, x, half);
+                ASSERT_EQ(wc.sum, w.sum);
+                ASSERT_EQ(wc.var, w.var);
+                double cross_only[2] = {};
+                crossSums(both, 2, to, Pos{x, y}, half, cross_only);
+                ASSERT_EQ(cross_only[0], cross[0]);
+                ASSERT_EQ(cross_only[1], cross[1]);
                 const double s = nccFromSums(t, w, cross[0], half);
                 ASSERT_EQ(s, ncc(t, to, Pos{x, y}, half));  // the one- and two-template passes
                 ASSERT_EQ(nccFromSums(u, w, cross[1], half), ncc(u, to, Pos{x, y}, half));

@@ -35,6 +35,54 @@ bool segmentWithin(const Vec2& p, const Vec2& a, const Vec2& b, double limit_sq,
     return (p - q).squaredNorm() <= limit_sq;
 }
 
+// An x interval of the row y whose positions lie within the band of the segment (a, b)
+// of length `length`: the projection's parameter inside [1e-9, 1 - 1e-9] and the distance
+// from the segment's line below (1 - 1e-9) limit (the square root of limit_sq), so that segmentWithin() is true
+// there whatever its rounding; then shrunk by far more than the rounding of the interval's
+// own arithmetic. Empty (lo > hi) when there is none.
+void sureInterval(const Vec2& a, const Vec2& b, double length, double y, double limit, double& lo,
+                  double& hi) noexcept {
+    lo = 1.0;
+    hi = -1.0;
+    const Vec2 d = b - a;
+    const double len2 = d.squaredNorm();
+    if (!(len2 > 0.0) || !(length > 0.0)) {
+        return;
+    }
+    const double tight = 1.0 - 1e-9;
+    const double reach = limit * tight * length;  // |cross(d, p - a)| below this
+    const double c = d.x() * (y - a.y());                       // cross(d, p - a) = c - d.y (x - a.x)
+    double u0 = -std::numeric_limits<double>::infinity();       // bounds of x - a.x
+    double u1 = std::numeric_limits<double>::infinity();
+    if (d.y() != 0.0) {
+        const double p0 = (c - reach) / d.y();
+        const double p1 = (c + reach) / d.y();
+        u0 = std::min(p0, p1);
+        u1 = std::max(p0, p1);
+    } else if (!(std::fabs(c) < reach)) {
+        return;
+    }
+    const double e = (y - a.y()) * d.y();  // (p - a) . d = (x - a.x) d.x + e
+    const double s0 = 1e-9 * len2 - e;
+    const double s1 = tight * len2 - e;
+    if (d.x() != 0.0) {
+        const double q0 = s0 / d.x();
+        const double q1 = s1 / d.x();
+        u0 = std::max(u0, std::min(q0, q1));
+        u1 = std::min(u1, std::max(q0, q1));
+    } else if (!(s0 <= 0.0 && s1 >= 0.0)) {
+        return;
+    }
+    if (!(u0 <= u1) || !std::isfinite(u0) || !std::isfinite(u1)) {
+        return;
+    }
+    const double x0 = a.x() + u0;
+    const double x1 = a.x() + u1;
+    const double shrink = 1e-9 * (1.0 + std::fabs(x0) + std::fabs(x1) + std::fabs(a.x()));
+    lo = x0 + shrink;
+    hi = x1 - shrink;
+}
+
 }  // namespace
 
 std::int32_t nearestVertex(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept {
@@ -71,9 +119,12 @@ void PolylineScan::set(const Vec2* poly, std::int32_t n, double limit_sq) noexce
     // Beyond this distance in x alone a segment's box fails the guard whatever the row:
     // gx > reach gives gx^2 > guard with a margin far above rounding.
     const double reach = math::sqrt(guard_) * (1.0 + 1e-6) + 1.0;
+    reach_ = reach;
+    limit_ = math::sqrt(limit_sq);
     for (std::int32_t i = 1; i < n_; ++i) {
         lo_[i] = std::min(poly[i - 1].x(), poly[i].x()) - reach;
         hi_[i] = std::max(poly[i - 1].x(), poly[i].x()) + reach;
+        length_[i] = math::sqrt((poly[i] - poly[i - 1]).squaredNorm());
     }
     active_count_ = 0;
     last_hit_ = 0;
@@ -93,10 +144,45 @@ void PolylineScan::set(const Vec2* poly, std::int32_t n, double limit_sq) noexce
     }
 }
 
+// The sure interval of one segment on this row, kept sorted by lo (insertion, at most 32).
+void PolylineScan::addSure(const Vec2& a, const Vec2& b, double length) noexcept {
+    double lo = 0.0, hi = 0.0;
+    sureInterval(a, b, length, y_, limit_, lo, hi);
+    if (!(lo <= hi)) {
+        return;
+    }
+    std::int32_t j = sure_count_;
+    while (j > 0 && sure_lo_[j - 1] > lo) {  // bound: j <= sure_count_ < 33
+        sure_lo_[j] = sure_lo_[j - 1];
+        sure_hi_[j] = sure_hi_[j - 1];
+        --j;
+    }
+    sure_lo_[j] = lo;
+    sure_hi_[j] = hi;
+    ++sure_count_;
+}
+
+// Overlapping sure intervals become one (a position in either is in the union).
+void PolylineScan::mergeSure() noexcept {
+    std::int32_t m = 0;
+    for (std::int32_t k = 1; k < sure_count_; ++k) {
+        if (sure_lo_[k] <= sure_hi_[m]) {
+            sure_hi_[m] = std::max(sure_hi_[m], sure_hi_[k]);
+        } else {
+            ++m;
+            sure_lo_[m] = sure_lo_[k];
+            sure_hi_[m] = sure_hi_[k];
+        }
+    }
+    sure_count_ = sure_count_ > 0 ? m + 1 : 0;
+}
+
 void PolylineScan::row(double y) noexcept {
     y_ = y;
     active_count_ = 0;
     last_hit_ = 0;
+    sure_count_ = 0;
+    sure_hint_ = 0;
     for (std::int32_t i = 0; i < n_; ++i) {
         const double dy = y - poly_[i].y();
         dy2_[i] = dy * dy;
@@ -107,8 +193,12 @@ void PolylineScan::row(double y) noexcept {
         if (!(gy * gy > guard_)) {
             active_[active_count_] = i;
             ++active_count_;
+            if (finite_) {
+                addSure(poly_[i - 1], poly_[i], length_[i]);
+            }
         }
     }
+    mergeSure();
 }
 
 bool PolylineScan::within(double x) noexcept {
@@ -117,6 +207,17 @@ bool PolylineScan::within(double x) noexcept {
     }
     const double dx0 = x - poly_[0].x();
     if (!(dx0 * dx0 + dy2_[0] > limit_sq_)) {  // (p - poly[0]).squaredNorm(): dx^2 + dy^2
+        return true;
+    }
+    // Inside a sure interval: true, as the tests below would say. The positions of a row
+    // come in increasing x, so the interval is found from the last one.
+    if (sure_hint_ > 0 && x < sure_lo_[sure_hint_]) {
+        sure_hint_ = 0;
+    }
+    while (sure_hint_ < sure_count_ && sure_hi_[sure_hint_] < x) {  // bound: sure_count_ <= 32
+        ++sure_hint_;
+    }
+    if (sure_hint_ < sure_count_ && x >= sure_lo_[sure_hint_]) {
         return true;
     }
     const Vec2 p(x, y_);
@@ -134,6 +235,30 @@ bool PolylineScan::within(double x) noexcept {
         }
     }
     return false;
+}
+
+void PolylineScan::span(double& lo, double& hi) const noexcept {
+    lo = std::numeric_limits<double>::infinity();
+    hi = -lo;
+    if (n_ == 0) {
+        return;
+    }
+    if (!finite_) {
+        lo = -std::numeric_limits<double>::infinity();
+        hi = std::numeric_limits<double>::infinity();
+        return;
+    }
+    // within(): the first vertex needs dx0^2 <= limit_sq (< guard: |dx0| < reach_), a
+    // segment x in [lo_, hi_].
+    if (!(dy2_[0] > limit_sq_)) {
+        lo = poly_[0].x() - reach_;
+        hi = poly_[0].x() + reach_;
+    }
+    for (std::int32_t k = 0; k < active_count_; ++k) {
+        const std::int32_t i = active_[k];
+        lo = std::min(lo, lo_[i]);
+        hi = std::max(hi, hi_[i]);
+    }
 }
 
 std::int32_t PolylineScan::nearest(double x) noexcept {

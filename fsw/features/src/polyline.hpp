@@ -40,17 +40,33 @@ public:
     // next time: any segment answers the same), nearest() where the last answer lay in
     // the vertices sorted by x.
     [[nodiscard]] bool within(double x) noexcept;
+    // After row(): an interval [lo, hi] of x outside which within(x) is certainly false on
+    // this row (the first vertex's reach and the active segments' intervals); lo > hi when
+    // no position of the row can be within. NaN vertices: the whole line.
+    void span(double& lo, double& hi) const noexcept;
     [[nodiscard]] std::int32_t nearest(double x) noexcept;
 
 private:
+    void addSure(const Vec2& a, const Vec2& b, double length) noexcept;
+    void mergeSure() noexcept;
+
     const Vec2* poly_ = nullptr;
     std::int32_t n_ = 0;
     double limit_sq_ = 0.0;
     double guard_ = 0.0;
+    double reach_ = 0.0;  // beyond this in x alone nothing is within (set())
+    double limit_ = 0.0;  // sqrt(limit_sq_)
     double y_ = 0.0;
     double lo_[kMaxPolylineVertices] = {};   // segment i (poly[i-1], poly[i]): x interval, widened
     double hi_[kMaxPolylineVertices] = {};
     double dy2_[kMaxPolylineVertices] = {};  // this row: (y - poly[i].y)^2
+    double length_[kMaxPolylineVertices] = {};  // segment i: |poly[i] - poly[i-1]|
+    // This row: x intervals whose positions are certainly within (each segment's band,
+    // tightened and shrunk well beyond rounding), sorted and merged where they overlap.
+    double sure_lo_[kMaxPolylineVertices] = {};
+    double sure_hi_[kMaxPolylineVertices] = {};
+    std::int32_t sure_count_ = 0;
+    std::int32_t sure_hint_ = 0;  // within(): the interval the last x fell before or in
     std::int32_t active_[kMaxPolylineVertices] = {};
     std::int32_t active_count_ = 0;
     std::int32_t last_hit_ = 0;                     // segment that last held a position, 0: none

@@ -389,6 +389,8 @@ struct TemplateBank {
     std::size_t stride = 0U;           // window^2
     std::int32_t half = 0;             // template half width (window / 2)
     detail::PolylineScan* scan = nullptr;  // the matcher's (arena)
+    std::uint32_t* column_sum = nullptr;     // max_width each (arena): the coarse search's
+    std::uint32_t* column_sum_sq = nullptr;  // column sums (detail::ColumnSums)
     Template coarse[kWarpHypotheses * kRaySamples];
     bool built[kWarpHypotheses * kRaySamples] = {};
 };
@@ -399,6 +401,24 @@ struct LevelView {
     Pos a;              // template centre in `from` (rounded feature position)
     std::int32_t half;  // template half width
 };
+
+// The first and last positions of the box's s-grid on the current row that lie in the
+// scan's span (PolylineScan::span: no other position can be within); first > last: none.
+void gridSpan(const detail::PolylineScan& scan, const Box& box, std::int32_t step, std::int32_t& first,
+              std::int32_t& last) noexcept {
+    first = 0;
+    last = -1;
+    double lo = 0.0, hi = 0.0;
+    scan.span(lo, hi);
+    const double a = std::max(static_cast<double>(box.lo.x), std::ceil(lo));  // -inf: the box
+    const double b = std::min(static_cast<double>(box.hi.x), std::floor(hi));
+    if (!(lo <= hi) || !(a <= b)) {
+        return;
+    }
+    const std::int32_t offset = static_cast<std::int32_t>(a) - box.lo.x;  // >= 0
+    first = box.lo.x + ((offset + step - 1) / step) * step;             // rounded up onto the grid
+    last = static_cast<std::int32_t>(b);
+}
 
 // NCC over the region at one level, on the stride regionStride() gives (raster order;
 // the first of equal scores wins). Each position uses the template of its nearest sample.
@@ -413,9 +433,22 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
     // detail::withinPolyline / nearestVertex, row by row (the same answers).
     detail::PolylineScan& scan = *bank.scan;
     scan.set(poly, rs.n, margin * margin);
+    // On the unit grid the window's own sums come from column sums slid down row by row
+    // (the same integers as a pass over the window); a strided grid sums each window.
+    const bool slide = step == 1;
+    detail::ColumnSums columns{bank.column_sum, bank.column_sum_sq, box.lo.x - v.half, box.hi.x + v.half, 0};
     for (std::int32_t y = box.lo.y; y <= box.hi.y; y += step) {
         scan.row(static_cast<double>(y));
-        for (std::int32_t x = box.lo.x; x <= box.hi.x; x += step) {
+        if (slide) {
+            if (y == box.lo.y) {
+                detail::setColumnSums(columns, *v.to, y, v.half);
+            } else {
+                detail::slideColumnSums(columns, *v.to, v.half);
+            }
+        }
+        std::int32_t x_first = 0, x_last = -1;
+        gridSpan(scan, box, step, x_first, x_last);
+        for (std::int32_t x = x_first; x <= x_last; x += step) {
             const auto xd = static_cast<double>(x);
             if (!scan.within(xd)) {
                 continue;
@@ -434,8 +467,13 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
                 templates[h] = &bank.coarse[k];
             }
             double cross[kWarpHypotheses] = {};
-            const detail::WindowStats window =
-                detail::windowAndCrossSums(templates, rs.hypotheses, *v.to, Pos{x, y}, v.half, cross);
+            detail::WindowStats window;
+            if (slide) {
+                window = detail::windowFromColumns(columns, x, v.half);
+                detail::crossSums(templates, rs.hypotheses, *v.to, Pos{x, y}, v.half, cross);
+            } else {
+                window = detail::windowAndCrossSums(templates, rs.hypotheses, *v.to, Pos{x, y}, v.half, cross);
+            }
             for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
                 const double s = detail::nccIfAbove(*templates[h], window, cross[h], v.half, best.score);
                 if (s > best.score) {
@@ -692,6 +730,10 @@ std::size_t bankValues(const MatcherConfig& c) noexcept {
     const auto w = static_cast<std::size_t>(c.template_window);
     return static_cast<std::size_t>(kWarpHypotheses * kRaySamples + 1) * w * w;
 }
+// The coarse search's column sums: one uint32 per column of the widest level, twice.
+std::size_t columnSumBytes(const MatcherConfig& c) noexcept {
+    return static_cast<std::size_t>(c.max_width) * sizeof(std::uint32_t);
+}
 }  // namespace
 
 std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcept {
@@ -700,9 +742,10 @@ std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcep
     }
     const std::size_t bytes = pyramidBytes(config);
     // Pyramid levels 1..L of A, then of B (one block each; an empty block still pads),
-    // then the template bank.
+    // then the template bank, the polyline scan and the coarse search's column sums.
     return 2U * Arena::blockBytes(bytes == 0U ? 1U : bytes) +
-           Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t)) + Arena::constructBytes<detail::PolylineScan>(1U);
+           Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t)) + Arena::constructBytes<detail::PolylineScan>(1U) +
+           2U * Arena::blockBytes(columnSumBytes(config));
 }
 
 Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept {
@@ -714,7 +757,10 @@ Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept
     storageB_ = arena.allocateArray<std::uint8_t>(bytes == 0U ? 1U : bytes);
     bank_ = arena.allocateArray<std::uint16_t>(bankValues(config));
     scan_ = arena.construct<detail::PolylineScan>(1U);
-    if (storageA_.empty() || storageB_.empty() || bank_.empty() || scan_ == nullptr) {
+    columnSum_ = arena.allocateArray<std::uint32_t>(static_cast<std::size_t>(config.max_width));
+    columnSumSq_ = arena.allocateArray<std::uint32_t>(static_cast<std::size_t>(config.max_width));
+    if (storageA_.empty() || storageB_.empty() || bank_.empty() || scan_ == nullptr || columnSum_.empty() ||
+        columnSumSq_.empty()) {
         return Status(StatusCode::kOutOfMemory, "TemplateMatcher::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
@@ -875,6 +921,8 @@ Status TemplateMatcher::matchPrepared(const FeatureSet& features_a, const MatchP
     bank.half = config_.template_window / 2;
     bank.storage = bank_.data();
     bank.scan = scan_;
+    bank.column_sum = columnSum_.data();
+    bank.column_sum_sq = columnSumSq_.data();
     bank.stride = static_cast<std::size_t>(config_.template_window) * static_cast<std::size_t>(config_.template_window);
     const auto tolerance = static_cast<double>(config_.mutual_tolerance_px);
     for (std::int32_t i = 0; i < features_a.count; ++i) {

@@ -19,10 +19,11 @@ double windowCount(std::int32_t half) noexcept {
     return static_cast<double>(side * side);
 }
 
-// One pass over the window whose top-left pixel is rb: its sums and its sums of products
-// with kCount templates. Sum: the window's accumulator, uint32 where the whole window's
-// products fit (kMaxWindow32), else uint64 over rows summed in uint32 (a row of 31 fits).
-template <std::size_t kCount, typename Sum>
+// One pass over the window whose top-left pixel is rb: its sums of products with kCount
+// templates and, when kOwnSums, its own sums. Sum: the products' accumulator, uint32 where
+// the whole window's products fit (kMaxWindow32), else uint64 over rows summed in uint32
+// (a row of 31 fits).
+template <std::size_t kCount, typename Sum, bool kOwnSums>
 WindowStats passOver(const Template* const* templates, const std::uint8_t* rb, std::int32_t stride,
                      std::int32_t half, double* cross) noexcept {
     const std::int32_t side = 2 * half + 1;
@@ -37,8 +38,10 @@ WindowStats passOver(const Template* const* templates, const std::uint8_t* rb, s
         std::uint32_t row[kCount] = {};
         for (std::int32_t dx = 0; dx < side; ++dx) {
             const std::uint32_t vb = rb[dx];
-            sb += vb;
-            sbb += vb * vb;
+            if constexpr (kOwnSums) {
+                sb += vb;
+                sbb += vb * vb;
+            }
             for (std::size_t i = 0; i < kCount; ++i) {
                 row[i] += static_cast<std::uint32_t>(t[i][dx]) * vb;
             }
@@ -76,11 +79,83 @@ WindowStats windowAndCrossSums(const Template* const* templates, std::int32_t co
     const std::int32_t side = 2 * half + 1;
     const std::uint8_t* rb = to.row(b.y - half) + (b.x - half);
     if (count > 1) {
-        return side <= kMaxWindow32 ? passOver<2, std::uint32_t>(templates, rb, to.stride(), half, cross)
-                                    : passOver<2, std::uint64_t>(templates, rb, to.stride(), half, cross);
+        return side <= kMaxWindow32 ? passOver<2, std::uint32_t, true>(templates, rb, to.stride(), half, cross)
+                                    : passOver<2, std::uint64_t, true>(templates, rb, to.stride(), half, cross);
     }
-    return side <= kMaxWindow32 ? passOver<1, std::uint32_t>(templates, rb, to.stride(), half, cross)
-                                : passOver<1, std::uint64_t>(templates, rb, to.stride(), half, cross);
+    return side <= kMaxWindow32 ? passOver<1, std::uint32_t, true>(templates, rb, to.stride(), half, cross)
+                                : passOver<1, std::uint64_t, true>(templates, rb, to.stride(), half, cross);
+}
+
+void crossSums(const Template* const* templates, std::int32_t count, const ImageView<const std::uint8_t>& to, Pos b,
+               std::int32_t half, double* cross) noexcept {
+    const std::int32_t side = 2 * half + 1;
+    const std::uint8_t* rb = to.row(b.y - half) + (b.x - half);
+    // The returned window sums are not taken (zeros): only cross[] is written.
+    if (count > 1 && side <= kMaxWindow32) {
+        static_cast<void>(passOver<2, std::uint32_t, false>(templates, rb, to.stride(), half, cross));
+    } else if (count > 1) {
+        static_cast<void>(passOver<2, std::uint64_t, false>(templates, rb, to.stride(), half, cross));
+    } else if (side <= kMaxWindow32) {
+        static_cast<void>(passOver<1, std::uint32_t, false>(templates, rb, to.stride(), half, cross));
+    } else {
+        static_cast<void>(passOver<1, std::uint64_t, false>(templates, rb, to.stride(), half, cross));
+    }
+}
+
+void setColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, std::int32_t y,
+                   std::int32_t half) noexcept {
+    const std::int32_t n = c.x1 - c.x0 + 1;
+    for (std::int32_t i = 0; i < n; ++i) {
+        c.sum[i] = 0U;
+        c.sum_sq[i] = 0U;
+    }
+    c.window_held = false;
+    for (std::int32_t dy = -half; dy <= half; ++dy) {
+        const std::uint8_t* r = image.row(y + dy) + c.x0;
+        for (std::int32_t i = 0; i < n; ++i) {
+            const std::uint32_t v = r[i];
+            c.sum[i] += v;
+            c.sum_sq[i] += v * v;
+        }
+    }
+    c.y = y;
+}
+
+void slideColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, std::int32_t half) noexcept {
+    const std::int32_t n = c.x1 - c.x0 + 1;
+    const std::uint8_t* in = image.row(c.y + 1 + half) + c.x0;
+    const std::uint8_t* out = image.row(c.y - half) + c.x0;
+    // Modulo 2^32 the intermediate may wrap; every final value fits (setColumnSums).
+    for (std::int32_t i = 0; i < n; ++i) {
+        const std::uint32_t a = in[i];
+        const std::uint32_t r = out[i];
+        c.sum[i] += a - r;
+        c.sum_sq[i] += a * a - r * r;
+    }
+    ++c.y;
+    c.window_held = false;
+}
+
+WindowStats windowFromColumns(ColumnSums& c, std::int32_t x, std::int32_t half) noexcept {
+    const std::int32_t side = 2 * half + 1;
+    const std::int32_t left = x - half - c.x0;  // index of the window's first column
+    std::uint32_t sb = 0U, sbb = 0U;            // at most 961 * 255^2 = 6.2e7
+    if (c.window_held && x == c.window_x + 1) {
+        // Modulo 2^32 like slideColumnSums: the result fits.
+        sb = c.window_sum + c.sum[left + side - 1] - c.sum[left - 1];
+        sbb = c.window_sum_sq + c.sum_sq[left + side - 1] - c.sum_sq[left - 1];
+    } else {
+        for (std::int32_t i = 0; i < side; ++i) {
+            sb += c.sum[left + i];
+            sbb += c.sum_sq[left + i];
+        }
+    }
+    c.window_x = x;
+    c.window_held = true;
+    c.window_sum = sb;
+    c.window_sum_sq = sbb;
+    const double sd = static_cast<double>(sb);
+    return WindowStats{sd, windowCount(half) * static_cast<double>(sbb) - sd * sd};
 }
 
 double nccFromSums(const Template& t, const WindowStats& w, double cross, std::int32_t half) noexcept {

@@ -43,6 +43,40 @@ void setTemplateSums(Template& t, std::int32_t half) noexcept;
                                              const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half,
                                              double* cross) noexcept;
 
+// Column sums of an image over the rows y - half .. y + half, for the columns x0 .. x1 (which
+// must lie in the image, as must the rows): sum[i] and sum_sq[i] for column x0 + i. Each
+// fits 32 bits (31 rows of 255^2). A search that visits consecutive rows slides them
+// (slideColumnSums) instead of summing the window anew at every position.
+struct ColumnSums {
+    std::uint32_t* sum = nullptr;
+    std::uint32_t* sum_sq = nullptr;
+    std::int32_t x0 = 0;
+    std::int32_t x1 = -1;
+    std::int32_t y = 0;  // the centre row they hold
+    // The last window windowFromColumns() summed on this row (none after set or slide):
+    // the next column's window is that one plus a column and minus another.
+    std::int32_t window_x = 0;
+    bool window_held = false;
+    std::uint32_t window_sum = 0U;
+    std::uint32_t window_sum_sq = 0U;
+};
+
+// Fills c for centre row y (c.x0, c.x1 and the arrays set by the caller).
+void setColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, std::int32_t y,
+                   std::int32_t half) noexcept;
+
+// Moves c from centre row c.y to c.y + 1 (the row y + 1 + half must lie in the image).
+void slideColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, std::int32_t half) noexcept;
+
+// The window around (x, c.y) from the column sums: the same WindowStats as
+// windowAndCrossSums gives there (slid from the last window when that was at x - 1).
+[[nodiscard]] WindowStats windowFromColumns(ColumnSums& c, std::int32_t x, std::int32_t half) noexcept;
+
+// The window's sums of products with `count` (1 or 2) templates only (its own sums come
+// from windowFromColumns): cross[i] as windowAndCrossSums gives it.
+void crossSums(const Template* const* templates, std::int32_t count, const ImageView<const std::uint8_t>& to, Pos b,
+               std::int32_t half, double* cross) noexcept;
+
 // The NCC from the sums; 0 when the template or the window is flat (undefined).
 [[nodiscard]] double nccFromSums(const Template& t, const WindowStats& w, double cross, std::int32_t half) noexcept;
 

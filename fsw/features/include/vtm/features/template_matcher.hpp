@@ -167,6 +167,8 @@ private:
     // The coarse scan's region test (private src/polyline.hpp), in the arena rather than
     // on the stack (about 1.4 KB).
     detail::PolylineScan* scan_ = nullptr;
+    Span<std::uint32_t> columnSum_{};    // the coarse search's column sums (see the .cpp)
+    Span<std::uint32_t> columnSumSq_{};
 };
 
 }  // namespace vtm::features
