@@ -379,6 +379,36 @@ TEST(MathAccuracy, SqrtIsCorrectlyRounded) {
     EXPECT_LE(stats.maxUlp, 0.5 + kReferenceSlackUlp + 1e-3);
 }
 
+TEST(MathAccuracy, FloorIsStdFloorBitForBit) {
+    Random rng(211U);
+    const auto same = [](double x) {
+        if (std::isnan(x)) {
+            return;  // below: the canonical NaN, not std::floor's payload
+        }
+        const double want = std::floor(x);
+        EXPECT_EQ(math::bitsOf(math::floor(x)), math::bitsOf(want)) << "floor(" << x << ")";
+        EXPECT_EQ(math::bitsOf(math::floorByRounding(x)), math::bitsOf(want)) << "floorByRounding(" << x << ")";
+    };
+    for (std::int32_t i = 0; i < kSamples; ++i) {
+        const double x = logUniform(rng, -60, 80);  // 1e-18 .. 1e24: both sides of 2^31
+        same(x);
+        same(-x);
+    }
+    for (std::int32_t k = -70000; k <= 70000; ++k) {  // integers, halves and their neighbours
+        const double x = static_cast<double>(k) * 0.5;
+        same(x);
+        same(math::fromBits(math::bitsOf(x) + 1U));
+        same(math::fromBits(math::bitsOf(x) - 1U));
+    }
+    for (const double x : {0.0, -0.0, 0.25, -0.25, 1e-320, -1e-320, 2147483647.0, 2147483647.5, 2147483648.0,
+                           -2147483648.0, -2147483648.5, -2147483649.0, 4503599627370495.5, std::numeric_limits<double>::max(),
+                           -std::numeric_limits<double>::max(), math::kInfinity, -math::kInfinity}) {
+        same(x);
+    }
+    EXPECT_EQ(math::bitsOf(math::floor(math::kNaN)), kCanonicalNaNBits);
+    EXPECT_EQ(math::bitsOf(math::floorByRounding(math::fromBits(0xFFF8000000000000ULL))), kCanonicalNaNBits);
+}
+
 // --------------------------------------------------------------------- special values --
 
 bool isCanonicalNaN(double x) { return math::bitsOf(x) == kCanonicalNaNBits; }

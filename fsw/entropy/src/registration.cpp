@@ -49,8 +49,8 @@ bool sample(const ImageView<const std::uint8_t>& img, const ImageView<const std:
         y > static_cast<double>(img.height() - 1)) {
         return false;
     }
-    const auto xf = static_cast<std::int32_t>(std::floor(x * 256.0 + 0.5));
-    const auto yf = static_cast<std::int32_t>(std::floor(y * 256.0 + 0.5));
+    const auto xf = static_cast<std::int32_t>(math::floor(x * 256.0 + 0.5));
+    const auto yf = static_cast<std::int32_t>(math::floor(y * 256.0 + 0.5));
     const std::int32_t x0 = xf >> 8;
     const std::int32_t y0 = yf >> 8;
     const std::int32_t ax = xf & 255;

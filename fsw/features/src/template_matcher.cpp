@@ -420,6 +420,45 @@ void gridSpan(const detail::PolylineScan& scan, const Box& box, std::int32_t ste
     last = static_cast<std::int32_t>(b);
 }
 
+// One position of the coarse search with the templates of its ray sample (built on
+// first use): the window's sums (from `columns` when given, else from its own pass) and
+// its products with each hypothesis's template; the square root only where the score may
+// beat the best (detail::nccIfAbove: the same best). Keeps the first of equal scores.
+struct Candidate {
+    Pos at;
+    std::int32_t vertex;  // the ray sample nearest to it
+};
+void scorePosition(const LevelView& v, const RaySamples& rs, TemplateBank& bank, detail::ColumnSums* columns,
+                   Candidate c, Best& best) noexcept {
+    const Pos at = c.at;
+    const std::int32_t vertex = c.vertex;
+    const Template* templates[kWarpHypotheses];
+    for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
+        const std::size_t k = static_cast<std::size_t>(h) * std::size_t{kRaySamples} + static_cast<std::size_t>(vertex);
+        if (!bank.built[k]) {
+            bank.coarse[k] = buildTemplate(*v.from, v.a, rs.unwarp[k], v.half, bank.storage + k * bank.stride);
+            bank.built[k] = true;
+        }
+        templates[h] = &bank.coarse[k];
+    }
+    double cross[kWarpHypotheses] = {};
+    detail::WindowStats window;
+    if (columns != nullptr) {
+        window = detail::windowFromColumns(*columns, at.x, v.half);
+        detail::crossSums(templates, rs.hypotheses, *v.to, at, v.half, cross);
+    } else {
+        window = detail::windowAndCrossSums(templates, rs.hypotheses, *v.to, at, v.half, cross);
+    }
+    for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
+        const double s = detail::nccIfAbove(*templates[h], window, cross[h], v.half, best.score);
+        if (s > best.score) {
+            best.score = s;
+            best.pos = at;
+            best.sample = h * kRaySamples + vertex;
+        }
+    }
+}
+
 // NCC over the region at one level, on the stride regionStride() gives (raster order;
 // the first of equal scores wins). Each position uses the template of its nearest sample.
 Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, double margin,
@@ -453,35 +492,7 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
             if (!scan.within(xd)) {
                 continue;
             }
-            const std::int32_t vertex = scan.nearest(xd);
-            // The templates of the sample's hypotheses (kWarpHypotheses at most), then the
-            // window's sums and its products with each in one pass; the square root only
-            // where the score may beat the best (detail::nccIfAbove: the same best).
-            const Template* templates[kWarpHypotheses];
-            for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
-                const std::size_t k = static_cast<std::size_t>(h) * std::size_t{kRaySamples} + static_cast<std::size_t>(vertex);
-                if (!bank.built[k]) {
-                    bank.coarse[k] = buildTemplate(*v.from, v.a, rs.unwarp[k], v.half, bank.storage + k * bank.stride);
-                    bank.built[k] = true;
-                }
-                templates[h] = &bank.coarse[k];
-            }
-            double cross[kWarpHypotheses] = {};
-            detail::WindowStats window;
-            if (slide) {
-                window = detail::windowFromColumns(columns, x, v.half);
-                detail::crossSums(templates, rs.hypotheses, *v.to, Pos{x, y}, v.half, cross);
-            } else {
-                window = detail::windowAndCrossSums(templates, rs.hypotheses, *v.to, Pos{x, y}, v.half, cross);
-            }
-            for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
-                const double s = detail::nccIfAbove(*templates[h], window, cross[h], v.half, best.score);
-                if (s > best.score) {
-                    best.score = s;
-                    best.pos = Pos{x, y};
-                    best.sample = h * kRaySamples + vertex;
-                }
-            }
+            scorePosition(v, rs, bank, slide ? &columns : nullptr, Candidate{Pos{x, y}, scan.nearest(xd)}, best);
             ++best.evaluated;
         }
     }

@@ -3,6 +3,7 @@
 
 #include "grid_occlusion.hpp"
 #include "vtm/core/camera_model.hpp"
+#include "vtm/core/math.hpp"
 #include "vtm/kriging/orthophoto.hpp"
 
 namespace vtm::kriging {
@@ -114,8 +115,8 @@ Pick pickImage(const Vec3& point_site_m, const Scene& scene, std::int32_t& occlu
 
 // Bilinear grey at a pixel inside [0, w-1] x [0, h-1], rounded to nearest.
 std::uint8_t bilinear(const ImageView<const std::uint8_t>& view, const Vec2& px) noexcept {
-    auto x0 = static_cast<std::int32_t>(std::floor(px.x()));
-    auto y0 = static_cast<std::int32_t>(std::floor(px.y()));
+    auto x0 = static_cast<std::int32_t>(math::floor(px.x()));
+    auto y0 = static_cast<std::int32_t>(math::floor(px.y()));
     x0 = x0 < view.width() - 1 ? x0 : view.width() - 2;
     y0 = y0 < view.height() - 1 ? y0 : view.height() - 2;
     const double fx = px.x() - static_cast<double>(x0);
@@ -125,7 +126,7 @@ std::uint8_t bilinear(const ImageView<const std::uint8_t>& view, const Vec2& px)
     const double top = (1.0 - fx) * static_cast<double>(r0[0]) + fx * static_cast<double>(r0[1]);
     const double bottom = (1.0 - fx) * static_cast<double>(r1[0]) + fx * static_cast<double>(r1[1]);
     const double v = (1.0 - fy) * top + fy * bottom;
-    const double rounded = std::floor(v + 0.5);
+    const double rounded = math::floor(v + 0.5);
     return static_cast<std::uint8_t>(rounded < 0.0 ? 0.0 : (rounded > 255.0 ? 255.0 : rounded));
 }
 

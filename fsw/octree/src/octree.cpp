@@ -116,9 +116,9 @@ std::int32_t Octree::levelFor(double footprint_m) const noexcept {
 
 bool Octree::finestKey(const Vec3& site_m, std::uint32_t key[3]) const noexcept {
     const double side = static_cast<double>(1U << static_cast<std::uint32_t>(config_.max_depth));
-    const double f[3] = {std::floor((site_m.x() - south_edge_m_) / finest_m_),
-                         std::floor((site_m.y() - config_.west_edge_m) / finest_m_),
-                         std::floor((site_m.z() - config_.top_z_m) / finest_m_)};
+    const double f[3] = {math::floor((site_m.x() - south_edge_m_) / finest_m_),
+                         math::floor((site_m.y() - config_.west_edge_m) / finest_m_),
+                         math::floor((site_m.z() - config_.top_z_m) / finest_m_)};
     for (std::int32_t a = 0; a < 3; ++a) {
         if (!(f[a] >= 0.0) || !(f[a] < side)) {  // checked in double: no overflowing conversion
             return false;

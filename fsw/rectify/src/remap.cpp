@@ -8,6 +8,7 @@
 // itself (its weight is 0 there, as f = 0 on the edge).
 #include <cmath>
 
+#include "vtm/core/math.hpp"
 #include "vtm/rectify/rectifier.hpp"
 
 namespace vtm::rectify {
@@ -54,8 +55,8 @@ void Rectifier::buildTable(const SideState& side) const noexcept {
             Vec2 in_px = Vec2::Zero();
             const bool mapped =
                 toInput(side, Vec2(static_cast<double>(x), static_cast<double>(y)), in_px).isOk();
-            const double qx = std::floor(in_px.x() * scale + 0.5);
-            const double qy = std::floor(in_px.y() * scale + 0.5);
+            const double qx = math::floor(in_px.x() * scale + 0.5);  // no libm call on the 750
+            const double qy = math::floor(in_px.y() * scale + 0.5);
             // NaN fails every comparison: outside.
             const bool inside = mapped && qx >= 0.0 && qx <= max_x && qy >= 0.0 && qy <= max_y;
             entry[0] = inside ? static_cast<std::int16_t>(qx) : kOutsideInput;

@@ -110,8 +110,8 @@ std::size_t HeightMap::index(std::int32_t col, std::int32_t row) const noexcept 
 void HeightMap::bin(double north_m, double east_m, double down_m, HeightMapStats& stats) noexcept {
     // floor of the cell coordinate; the range check is done in double so that a far point
     // cannot overflow the integer conversion. Rows are counted from the south edge here.
-    const double fc = std::floor((east_m - grid_.west_edge_m) / grid_.cell_m);
-    const double fs = std::floor((north_m - south_edge_m_) / grid_.cell_m);
+    const double fc = math::floor((east_m - grid_.west_edge_m) / grid_.cell_m);
+    const double fs = math::floor((north_m - south_edge_m_) / grid_.cell_m);
     const bool inside = fc >= 0.0 && fc < static_cast<double>(grid_.cols) && fs >= 0.0 &&
                         fs < static_cast<double>(grid_.rows) && math::isFinite(down_m);
     if (!inside) {

@@ -13,12 +13,14 @@
 //   sin, cos:              < 1 ulp for |x| <= kTrigAccurateLimit (about 2.1e8 rad);
 //                          beyond it see sin() below.
 //   sqrt:                  correctly rounded (IEEE).
+//   floor:                 exact (std::floor's value).
 // Every NaN result is the canonical quiet NaN (bits 0x7FF8000000000000), whatever NaN
 // came in: hardware NaN payloads and signs differ between targets.
 //
 // No heap, no exceptions, no recursion, every loop has a fixed trip count.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -85,5 +87,35 @@ constexpr double kTrigMaxArgument = 0x1.0p52;
 // software sqrt on the PowerPC 750, which has no sqrt instruction). sqrt(-0) = -0,
 // sqrt(x < 0) = NaN, sqrt(NaN) = NaN (canonical, unlike the hardware's default NaN).
 [[nodiscard]] double sqrt(double x) noexcept;
+
+// The largest integer not above x without a library call: x rounded to an integer by
+// adding and subtracting 2^52 with its sign (exact: below 2^52 the sum's ulp is 1, and
+// -ffp-contract=off keeps the two operations apart), then moved down when that went up.
+// The same double as std::floor for every x but NaN (-0 stays -0, +-inf and |x| >= 2^52
+// are themselves; NaN gives the canonical NaN). floor() uses it where it pays.
+[[nodiscard]] inline double floorByRounding(double x) noexcept {
+    constexpr double kTwo52 = 4503599627370496.0;
+    if (!(x < kTwo52 && x > -kTwo52)) {
+        return x == x ? x : kNaN;  // integral already, or infinite, or NaN
+    }
+    const double m = x < 0.0 ? -kTwo52 : kTwo52;
+    const double t = (x + m) - m;  // x rounded to the nearest integer
+    if (t == x) {
+        return x;  // an integer already (-0 stays -0)
+    }
+    return t > x ? t - 1.0 : t;
+}
+
+// The largest integer not above x, std::floor's double (NaN: the canonical NaN). The
+// PowerPC 750, 32-bit ARM and SPARC have no rounding instruction the compiler uses, so
+// std::floor is glibc's software routine there (about 45 instructions on the 750):
+// floorByRounding() instead. Elsewhere std::floor (aarch64: one instruction).
+[[nodiscard]] inline double floor(double x) noexcept {
+#if defined(__powerpc__) || defined(__arm__) || defined(__sparc__)
+    return floorByRounding(x);
+#else
+    return x == x ? std::floor(x) : kNaN;
+#endif
+}
 
 }  // namespace vtm::math
