@@ -410,8 +410,9 @@ void gridSpan(const detail::PolylineScan& scan, const Box& box, std::int32_t ste
     last = -1;
     double lo = 0.0, hi = 0.0;
     scan.span(lo, hi);
-    const double a = std::max(static_cast<double>(box.lo.x), std::ceil(lo));  // -inf: the box
-    const double b = std::min(static_cast<double>(box.hi.x), std::floor(hi));
+    // math::floor: no libm call per row on the 750; ceil(lo) = -floor(-lo).
+    const double a = std::max(static_cast<double>(box.lo.x), -math::floor(-lo));  // -inf: the box
+    const double b = std::min(static_cast<double>(box.hi.x), math::floor(hi));
     if (!(lo <= hi) || !(a <= b)) {
         return;
     }
