@@ -273,10 +273,10 @@ std::vector<Flown> flyDescent(DescentMapper& mapper, const char* poses) {
         const DepthError e = depthError(*p);
         const MapError m = mapError(*p);
         const double altitude = -p->geometry.site_from_cam1.t_m.z();
-        std::printf("| %s | %d | %.0f | %d / %d | %.3f | %.3f / %.3f | %.1f | %.3f | %.3f | %lld | %.3f |\n", poses,
+        std::printf("| %s | %d | %.0f | %d / %d | %.3f | %.3f / %.3f | %d | %.1f | %.3f | %.3f | %lld | %.3f |\n", poses,
                     pair, altitude, p->refine.matching.matched, p->refine.motion.inliers, p->refine.motion.rms_px, p->refine.rotation_change_deg,
-                    p->refine.direction_change_deg, 100.0 * static_cast<double>(e.count) / (kSize * kSize), 100.0 * e.median,
-                    100.0 * e.p90, static_cast<long long>(p->cells_filled), 100.0 * m.median_m / altitude);
+                    p->refine.direction_change_deg, p->sweep.planes, 100.0 * static_cast<double>(e.count) / (kSize * kSize),
+                    100.0 * e.median, 100.0 * e.p90, static_cast<long long>(p->cells_filled), 100.0 * m.median_m / altitude);
         EXPECT_EQ(m.cells, static_cast<std::size_t>(p->cells_filled));
         out.push_back({e, m, altitude, p->refine.rotation_change_deg, p->refine.direction_change_deg});
     }
@@ -285,9 +285,9 @@ std::vector<Flown> flyDescent(DescentMapper& mapper, const char* poses) {
 
 void printHeader() {
     std::printf("| poses | pair | camera 1 height m | matches / inliers | refine RMS px | correction rot / dir deg |"
-                " valid %% of image 1 | median depth error %% | p90 %% | grid cells |"
+                " planes swept | valid %% of image 1 | median depth error %% | p90 %% | grid cells |"
                 " median elevation error %% of height |\n"
-                "|---|---|---|---|---|---|---|---|---|---|---|\n");
+                "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 // With the simulator's true poses the mapper's own chain (mount, camera poses, depth range,

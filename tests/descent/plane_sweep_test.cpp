@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -180,6 +181,69 @@ TEST(PlaneSweep, SlopedPlaneDepthIsRecoveredWithNcc) {
             ASSERT_LE(r.score[i], 2.0F);
         }
     }
+}
+
+// Image-2 position of image-1 pixel (x, y) on the plane of inverse depth inv (camera 1's
+// axis), from the pair's true geometry: the test's own projection, not the module's.
+Vec2 onPlane(double x, double y, double inv) {
+    const Pair& p = pair();
+    const Mat3 R = p.geometry.site_from_cam2.R.transpose() * p.geometry.site_from_cam1.R;
+    const Vec3 t =
+        p.geometry.site_from_cam2.R.transpose() * (p.geometry.site_from_cam1.t_m - p.geometry.site_from_cam2.t_m);
+    const Vec3 ray((x - p.camera.cx_px) / p.camera.fx_px, (y - p.camera.cy_px) / p.camera.fy_px, 1.0);
+    const Vec3 q = R * (ray / inv) + t;
+    return Vec2(p.camera.fx_px * q.x() / q.z() + p.camera.cx_px, p.camera.fy_px * q.y() / q.z() + p.camera.cy_px);
+}
+
+// The largest image-2 step between neighbouring planes of an n-plane sweep of c's range
+// over the pixels that got a depth.
+double largestStepOverValidPixels(const Config& c, const SweepRun& r, std::int32_t n) {
+    const double far = 1.0 / c.depth_max_m;
+    const double step = (1.0 / c.depth_min_m - far) / static_cast<double>(n - 1);
+    double largest = 0.0;
+    for (std::int32_t y = 0; y < kSize; ++y) {
+        for (std::int32_t x = 0; x < kSize; ++x) {
+            if (r.reason[static_cast<std::size_t>(y * kSize + x)] != 0U) {
+                continue;
+            }
+            for (std::int32_t k = 0; k + 1 < n; ++k) {
+                const double d = (onPlane(x, y, far + step * (k + 1)) - onPlane(x, y, far + step * k)).norm();
+                largest = std::max(largest, d);
+            }
+        }
+    }
+    return largest;
+}
+
+// max_plane_step_px: fewer planes where the parallax allows, no step above the limit
+// where a depth is published (within the 33 x 33 grid's reach), not many more planes than
+// the published depths need, and the depths meet the same truth bounds as the full sweep.
+TEST(PlaneSweep, FewerPlanesWhereTheParallaxAllowsWithTheSameAccuracy) {
+    Config c = testConfig(Score::kNcc);
+    const SweepRun all = runSweep(c, pair().geometry);
+    ASSERT_TRUE(all.status.isOk());
+    EXPECT_EQ(all.stats.planes, c.planes);
+    c.max_plane_step_px = 1.5;
+    const SweepRun fewer = runSweep(c, pair().geometry);
+    expectAccurate(fewer);
+    EXPECT_EQ(fewer.heapCalls, 0U);
+    std::printf("[ planes ] %d of %d, largest parallax %.1f px\n", fewer.stats.planes, c.planes,
+                fewer.stats.max_parallax_px);
+    ASSERT_GE(fewer.stats.planes, 3);
+    ASSERT_LT(fewer.stats.planes, c.planes);
+    EXPECT_LE(largestStepOverValidPixels(c, fewer, fewer.stats.planes), 1.05 * c.max_plane_step_px);
+    // Not wasteful: the module counts over every point image 2 sees at both ends of the
+    // range, the published depths are fewer (window and focus-of-expansion masks), so it
+    // may keep a plane or two more than they need, not three.
+    EXPECT_GT(largestStepOverValidPixels(c, fewer, fewer.stats.planes - 3), c.max_plane_step_px);
+    // The accuracy of the full sweep, within 0.05 px of registration at the median.
+    EXPECT_LT(quantile(registrationErrors(fewer), 0.5), quantile(registrationErrors(all), 0.5) + 0.05);
+    // A limit below what the capacity allows sweeps every plane: the same bits as 0.
+    c.max_plane_step_px = 0.01;
+    const SweepRun capped = runSweep(c, pair().geometry);
+    ASSERT_TRUE(capped.status.isOk());
+    EXPECT_EQ(capped.stats.planes, c.planes);
+    EXPECT_EQ(0, std::memcmp(capped.depth.data(), all.depth.data(), all.depth.size() * sizeof(float)));
 }
 
 TEST(PlaneSweep, CheckCameraAcceptsOnlyAnUndistortedPinhole) {
@@ -408,6 +472,11 @@ TEST(PlaneSweepConfig, EveryBadFieldIsNamedAndTheWorkspaceFits) {
     c = testConfig();
     c.min_parallax_px = -1.0;
     EXPECT_NE(reason(c).find("min_parallax_px"), std::string::npos);
+    c = testConfig();
+    c.max_plane_step_px = -0.5;
+    EXPECT_NE(reason(c).find("max_plane_step_px"), std::string::npos);
+    c.max_plane_step_px = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_NE(reason(c).find("max_plane_step_px"), std::string::npos);
     c = testConfig();
     c.max_width = 8;
     EXPECT_NE(reason(c).find("max_width"), std::string::npos);

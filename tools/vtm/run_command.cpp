@@ -220,6 +220,7 @@ struct PairRow {
     double camera_height_m = 0.0;  // as the poses said
     int matches = 0, inliers = 0;
     double rot_deg = 0.0, dir_deg = 0.0;
+    int planes = 0;  // swept (descent::Config::max_plane_step_px)
     long long cells = 0;
     std::vector<std::pair<std::string, double>> stage_ms;
     double seconds = 0.0;
@@ -259,24 +260,25 @@ std::string descentSection(const app::DescentMapperConfig& c, std::size_t memory
     md << "## Descent\n\n"
        << "The executive `DescentMapper` (fsw/app) on the descent camera's frames (SimCamera), the poses from "
           "SimOdometry with its navigation errors; figures against the renderer's depth and points of image 1.\n\n"
-       << "Frames " << c.sweep.max_width << " x " << c.sweep.max_height << ", " << c.sweep.planes << " planes, window "
+       << "Frames " << c.sweep.max_width << " x " << c.sweep.max_height << ", up to " << c.sweep.planes
+       << " planes (at most " << c.sweep.max_plane_step_px << " px between neighbours where the parallax is largest), window "
        << c.sweep.window << ", grid " << c.grid_cells << " cells; mapper memory planned at init: " << memory
        << " bytes. Total " << total_s << " s.\n\n"
        << "| pair | camera 1 height m (navigation) | true altitude m | matches / inliers | correction rot / dir deg | "
-          "valid % | median depth error % | p90 % | elevation error: mean m / RMS about it m (% of altitude) | "
-          "grid cells | time s |\n"
-       << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "planes swept | valid % | median depth error % | p90 % | elevation error: mean m / RMS about it m (% of "
+          "altitude) | grid cells | time s |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     char b[512];
     for (const PairRow& r : rows) {
         if (!r.ok) {
-            md << "| " << r.index << " | request failed: " << r.failure << " ||||||||||\n";
+            md << "| " << r.index << " | request failed: " << r.failure << " |||||||||||\n";
             continue;
         }
         const Accuracy& a = r.accuracy;
         std::snprintf(b, sizeof b,
-                      "| %d | %.1f | %.1f | %d / %d | %.3f / %.3f | %.1f | %.3f | %.3f | %+.2f / %.3f (%.3f %%) | %lld | "
-                      "%.2f |\n",
-                      r.index, r.camera_height_m, a.altitude_m, r.matches, r.inliers, r.rot_deg, r.dir_deg,
+                      "| %d | %.1f | %.1f | %d / %d | %.3f / %.3f | %d | %.1f | %.3f | %.3f | %+.2f / %.3f (%.3f %%) | "
+                      "%lld | %.2f |\n",
+                      r.index, r.camera_height_m, a.altitude_m, r.matches, r.inliers, r.rot_deg, r.dir_deg, r.planes,
                       100.0 * a.valid_fraction, 100.0 * a.median_depth_rel, 100.0 * a.p90_depth_rel, a.elevation_bias_m,
                       a.elevation_shape_rms_m, a.altitude_m > 0.0 ? 100.0 * a.elevation_shape_rms_m / a.altitude_m : 0.0,
                       r.cells, r.seconds);
@@ -408,6 +410,7 @@ std::string flyDescent(const World& world, hal::Camera& camera, hal::Odometry& o
         row.inliers = p->refine.motion.inliers;
         row.rot_deg = p->refine.rotation_change_deg;
         row.dir_deg = p->refine.direction_change_deg;
+        row.planes = p->sweep.planes;
         row.cells = static_cast<long long>(p->cells_filled);
         std::vector<Vec3> points;
         row.accuracy = measure(world, *p, points);

@@ -51,7 +51,14 @@ refine::Config descentRefineConfig() noexcept {
     refine::Config r;
     r.match_margin_px = 16.0;
     r.visibility_margin_px = 16.0;
+    r.detector.per_cell = 1;
     return r;
+}
+
+descent::Config descentSweepConfig() noexcept {
+    descent::Config c;
+    c.max_plane_step_px = 2.0;
+    return c;
 }
 
 Status DescentMapperConfig::validate() const noexcept {

@@ -56,6 +56,9 @@ Status Config::validate() const noexcept {
     if (score != Score::kSad && score != Score::kNcc) {
         return invalidConfig("score: unknown value (kSad or kNcc)", static_cast<std::int64_t>(score));
     }
+    if (!finite(max_plane_step_px) || max_plane_step_px < 0.0 || max_plane_step_px > 1000.0) {
+        return invalidConfig("max_plane_step_px: must be 0..1000 (image-2 pixels; 0: every plane)", 0);
+    }
     if (!finite(min_parallax_px) || min_parallax_px < 0.0 || min_parallax_px > 1000.0) {
         return invalidConfig("min_parallax_px: must be 0..1000 (image-2 pixels)", 0);
     }

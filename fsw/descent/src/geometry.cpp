@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "vtm/core/math.hpp"
+
 namespace vtm::descent {
 namespace detail {
 
@@ -118,6 +120,125 @@ double centreScale(const double* hk, double cx, double cy) noexcept {
     return std::sqrt(std::fabs(det));
 }
 
+// The sweep's planes n . X1 = z_k, n = (0, 0, 1), uniform in 1/z from 1/depth_max (k = 0)
+// to 1/depth_min (k = count - 1), and their homographies H_k = K (R + t n^T / z_k) K^-1.
+struct PlaneFamily {
+    Mat3 K, Kinv, R;
+    Vec3 t;
+    double invFar, invNear;
+
+    [[nodiscard]] double inverseDepth(std::int32_t k, std::int32_t count) const noexcept {
+        const double step = (invNear - invFar) / static_cast<double>(count - 1);
+        return invFar + step * static_cast<double>(k);
+    }
+    // Row-major into h[9].
+    void homography(double inv, double* h) const noexcept {
+        Mat3 A = R;
+        A.col(2) += t * inv;
+        const Mat3 H = K * A * Kinv;
+        for (std::int32_t i = 0; i < 9; ++i) {
+            h[i] = H(i / 3, i % 3);
+        }
+    }
+};
+
+// Points per axis of the grid over image 1 at which Config::max_plane_step_px is checked.
+constexpr std::int32_t kStepGrid = 33;
+constexpr std::int32_t kStepPoints = kStepGrid * kStepGrid;
+
+// Which points of the grid over image 1 (kStepGrid^2, corners included, row by row) have
+// image-2 positions inside image 2 (image 1's size) at both ends of the range: those that
+// can get a depth. One bit each: the sweep runs on the flight stack.
+struct StepGrid {
+    double width = 0.0;   // image 1's last column and row
+    double height = 0.0;
+    std::uint32_t in_view[(kStepPoints + 31) / 32] = {};
+
+    [[nodiscard]] double x(std::int32_t i) const noexcept {
+        const std::int32_t column = i % kStepGrid;
+        return width * static_cast<double>(column) / static_cast<double>(kStepGrid - 1);
+    }
+    [[nodiscard]] double y(std::int32_t i) const noexcept {
+        const std::int32_t row = i / kStepGrid;  // the grid's row of point i
+        return height * static_cast<double>(row) / static_cast<double>(kStepGrid - 1);
+    }
+    [[nodiscard]] bool seen(std::int32_t i) const noexcept { return ((in_view[i / 32] >> (i % 32)) & 1U) != 0U; }
+};
+
+double distance(const double* ha, const double* hb, double x, double y) noexcept {
+    double ua = 0.0, va = 0.0, ub = 0.0, vb = 0.0;
+    if (!detail::mapPixel(ha, x, y, ua, va) || !detail::mapPixel(hb, x, y, ub, vb)) {
+        return 0.0;
+    }
+    return std::sqrt((ua - ub) * (ua - ub) + (va - vb) * (va - vb));
+}
+
+// Fills the grid; returns the largest parallax over the range among its points, image-2 px.
+double inViewGrid(const PlaneFamily& f, std::int32_t width, std::int32_t height, StepGrid& grid) noexcept {
+    double hFar[9], hNear[9];
+    f.homography(f.invFar, hFar);
+    f.homography(f.invNear, hNear);
+    grid = StepGrid{};
+    grid.width = static_cast<double>(width - 1);
+    grid.height = static_cast<double>(height - 1);
+    const double w = grid.width;
+    const double h = grid.height;
+    const auto inside = [w, h](double u, double v) { return u >= 0.0 && u <= w && v >= 0.0 && v <= h; };
+    double largest = 0.0;
+    for (std::int32_t i = 0; i < kStepPoints; ++i) {
+        const double x = grid.x(i);
+        const double y = grid.y(i);
+        double un = 0.0, vn = 0.0, uf = 0.0, vf = 0.0;
+        if (detail::mapPixel(hNear, x, y, un, vn) && detail::mapPixel(hFar, x, y, uf, vf) && inside(un, vn) &&
+            inside(uf, vf)) {
+            grid.in_view[i / 32] |= 1U << static_cast<std::uint32_t>(i % 32);
+            const double p = distance(hNear, hFar, x, y);
+            largest = p > largest ? p : largest;
+        }
+    }
+    return largest;
+}
+
+// The largest image-2 step between neighbouring planes of a `count`-plane family over the
+// grid. A point's image-2 position moves along a line as a Moebius map of 1/z, which
+// steps monotonically faster or slower along the range: the first or the last step is
+// the largest.
+double largestStep(const PlaneFamily& f, std::int32_t count, const StepGrid& grid) noexcept {
+    double h0[9], h1[9], hm[9], hn[9];
+    f.homography(f.inverseDepth(0, count), h0);
+    f.homography(f.inverseDepth(1, count), h1);
+    f.homography(f.inverseDepth(count - 2, count), hm);
+    f.homography(f.inverseDepth(count - 1, count), hn);
+    double largest = 0.0;
+    for (std::int32_t i = 0; i < kStepPoints; ++i) {
+        if (!grid.seen(i)) {
+            continue;
+        }
+        const double a = distance(h1, h0, grid.x(i), grid.y(i));
+        const double b = distance(hn, hm, grid.x(i), grid.y(i));
+        largest = a > largest ? a : largest;
+        largest = b > largest ? b : largest;
+    }
+    return largest;
+}
+
+// Config::max_plane_step_px: the fewest planes (3..planes) whose largest step over the
+// grid stays within it, from the estimate parallax / step + 1 upwards; every plane when
+// it is 0.
+std::int32_t planesToSweep(const Config& c, const PlaneFamily& f, double parallax_px, const StepGrid& grid) noexcept {
+    if (!(c.max_plane_step_px > 0.0)) {
+        return c.planes;
+    }
+    const double estimate = -math::floor(-(parallax_px / c.max_plane_step_px)) + 1.0;  // ceil + 1
+    std::int32_t n = estimate < static_cast<double>(c.planes) ? static_cast<std::int32_t>(estimate) : c.planes;
+    n = n > 3 ? n : 3;
+    // bound: at most planes - 3 more counts (Config::planes <= kMaxPlanes)
+    while (n < c.planes && largestStep(f, n, grid) > c.max_plane_step_px) {
+        ++n;
+    }
+    return n;
+}
+
 }  // namespace
 
 Status PlaneSweep::prepare(const ImageView<const std::uint16_t>& image1,
@@ -139,19 +260,15 @@ Status PlaneSweep::prepare(const ImageView<const std::uint16_t>& image1,
     // X2 = R X1 + t from X_site = R1 X1 + c1 = R2 X2 + c2.
     const Mat3 R = g.site_from_cam2.R.transpose() * g.site_from_cam1.R;
     const Vec3 t = g.site_from_cam2.R.transpose() * (g.site_from_cam1.t_m - g.site_from_cam2.t_m);
-    const Mat3 K = detail::intrinsics(g.camera);
-    const Mat3 Kinv = detail::inverseIntrinsics(g.camera);
-    const double invFar = 1.0 / config_.depth_max_m;
-    const double step = (1.0 / config_.depth_min_m - invFar) / static_cast<double>(config_.planes - 1);
-    for (std::int32_t k = 0; k < config_.planes; ++k) {
-        const double inv = invFar + step * static_cast<double>(k);
+    const PlaneFamily family{detail::intrinsics(g.camera), detail::inverseIntrinsics(g.camera), R, t,
+                             1.0 / config_.depth_max_m, 1.0 / config_.depth_min_m};
+    StepGrid grid;
+    maxParallax_ = inViewGrid(family, image1.width(), image1.height(), grid);
+    planes_ = planesToSweep(config_, family, maxParallax_, grid);
+    for (std::int32_t k = 0; k < planes_; ++k) {
+        const double inv = family.inverseDepth(k, planes_);
         inverseDepth_[static_cast<std::size_t>(k)] = inv;
-        Mat3 A = R;
-        A.col(2) += t * inv;  // R + t n^T / z_k with n = (0, 0, 1)
-        const Mat3 H = K * A * Kinv;
-        for (std::int32_t i = 0; i < 9; ++i) {
-            homographies_[9U * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)] = H(i / 3, i % 3);
-        }
+        family.homography(inv, &homographies_[9U * static_cast<std::size_t>(k)]);
     }
     // The nearest plane must lie in front of camera 2 at the image centre.
     const Vec3 nearCentre = R * Vec3(0.0, 0.0, config_.depth_min_m) + t;
@@ -160,7 +277,7 @@ Status PlaneSweep::prepare(const ImageView<const std::uint16_t>& image1,
     }
     width_ = image1.width();
     height_ = image1.height();
-    const double* mid = &homographies_[9U * static_cast<std::size_t>(config_.planes / 2)];
+    const double* mid = &homographies_[9U * static_cast<std::size_t>(planes_ / 2)];
     scale_ = centreScale(mid, g.camera.cx_px, g.camera.cy_px);
     // Footprint matching: image 2's pixel (a box of width 1) becomes a box of width s
     // (image-2 pixels) once blurred by a kernel of variance (s^2 - 1) / 12.
@@ -178,9 +295,9 @@ ImageView<const std::uint16_t> PlaneSweep::prefilteredImage2() const noexcept {
 }
 
 Mat3 PlaneSweep::homography(std::int32_t k) const noexcept {
-    VTM_ASSERT(k >= 0 && k < config_.planes, k, config_.planes);
+    VTM_ASSERT(k >= 0 && k < planes_, k, planes_);
     Mat3 H = Mat3::Zero();
-    if (k >= 0 && k < config_.planes && !homographies_.empty()) {
+    if (k >= 0 && k < planes_ && !homographies_.empty()) {
         for (std::int32_t i = 0; i < 9; ++i) {
             H(i / 3, i % 3) = homographies_[9U * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)];
         }
@@ -189,8 +306,8 @@ Mat3 PlaneSweep::homography(std::int32_t k) const noexcept {
 }
 
 double PlaneSweep::planeDepth(std::int32_t k) const noexcept {
-    VTM_ASSERT(k >= 0 && k < config_.planes, k, config_.planes);
-    if (k < 0 || k >= config_.planes || inverseDepth_.empty()) {
+    VTM_ASSERT(k >= 0 && k < planes_, k, planes_);
+    if (k < 0 || k >= planes_ || inverseDepth_.empty()) {
         return 0.0;
     }
     return 1.0 / inverseDepth_[static_cast<std::size_t>(k)];

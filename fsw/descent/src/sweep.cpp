@@ -334,7 +334,7 @@ void PlaneSweep::sweepBand(const ImageView<const std::uint16_t>& image1, std::in
     if (config_.score == Score::kNcc) {
         imageSums(y0, y1);
     }
-    for (std::int32_t k = 0; k < config_.planes; ++k) {
+    for (std::int32_t k = 0; k < planes_; ++k) {
         scorePlane(k, y0, y1);
     }
 }
@@ -408,7 +408,7 @@ void PlaneSweep::decideBand(const ImageView<const std::uint16_t>& image1, std::i
                             const SweepOutput& out, SweepStats& stats) noexcept {
     (void)image1;
     const std::int32_t r = radius_;
-    const double* hNear = &homographies_[9U * static_cast<std::size_t>(config_.planes - 1)];
+    const double* hNear = &homographies_[9U * static_cast<std::size_t>(planes_ - 1)];
     const double* hFar = &homographies_[0];
     const double minParallax2 = config_.min_parallax_px * config_.min_parallax_px;
     const auto maxU = static_cast<double>(width_ - 1);
@@ -434,7 +434,7 @@ void PlaneSweep::decideBand(const ImageView<const std::uint16_t>& image1, std::i
             } else if (ncc && best < 0 && varI_[idx] <= 0.0) {
                 d.reason = Reason::kNoTexture;
             } else {
-                d = decide(best, config_.planes, costOf(belowScore_[idx], ncc), costOf(bestScore_[idx], ncc),
+                d = decide(best, planes_, costOf(belowScore_[idx], ncc), costOf(bestScore_[idx], ncc),
                            costOf(aboveScore_[idx], ncc));
             }
             float depth = kNaN;
@@ -480,6 +480,8 @@ Status PlaneSweep::compute(const ImageView<const std::uint16_t>& image1,
     VTM_RETURN_IF_ERROR(prepare(image1, image2, geometry, out));
     s.scale = scale_;
     s.prefilter_sigma_px = prefilterSigma_;
+    s.max_parallax_px = maxParallax_;
+    s.planes = planes_;
     const std::int32_t r = radius_;
     for (std::int32_t y = 0; y < r; ++y) {
         markRow(y, out, s);

@@ -60,13 +60,19 @@ constexpr std::int32_t kMaxGridCells = 4096;  // elevation grid side
 
 // The refinement's defaults with the lander's matching window: 16 px around the
 // odometry's prediction (its position and attitude error seen in image 2), and the same
-// 16 px as the visibility margin.
+// 16 px as the visibility margin; one feature per cell of the detector's 16 x 16 grid
+// (docs/app.md "Cost": the same depths as two at 0.56x the refine stage's instructions).
 [[nodiscard]] refine::Config descentRefineConfig() noexcept;
+
+// The sweep's defaults with a plane step of at most 2 image-2 pixels over the largest
+// parallax (descent::Config::max_plane_step_px): the 64 planes are the capacity, a pair
+// whose parallax is smaller sweeps fewer (docs/app.md "Cost").
+[[nodiscard]] descent::Config descentSweepConfig() noexcept;
 
 struct DescentMapperConfig {
     // The plane sweep. max_width x max_height must be the camera's frame size; depth_min_m,
     // depth_max_m and min_parallax_px are replaced per pair (see below).
-    descent::Config sweep{};
+    descent::Config sweep = descentSweepConfig();
     CameraMount mount{};  // the nadir camera on the lander
     // Depth range of each pair before refinement (the matching's prediction; the sweep's
     // range without refine_pose): camera 1's height h above the site datum times

@@ -78,6 +78,12 @@ struct Config {
     // Rows of image 1 processed together: memory grows with band_rows, per-band overhead
     // (window - 1 extra rows warped per plane) shrinks. 1..max_height.
     std::int32_t band_rows = 32;
+    // 0: compute() sweeps `planes` planes. > 0 (image-2 pixels, at most 1000): it sweeps only
+    // as many (at least 3, at most `planes`) as keep the step between neighbouring planes
+    // at most this far in image 2 where the parallax over the depth range is largest (on a
+    // 33 x 33 grid of image 1, among the points image 2 sees at both ends of the range):
+    // the planes stay uniform in 1/z over the same range, fewer where the parallax is small.
+    double max_plane_step_px = 0.0;
 
     // kOk, or kInvalidConfig naming the field (value in detail; 0 for non-integers).
     [[nodiscard]] Status validate() const noexcept;
@@ -108,6 +114,10 @@ struct SweepStats {
     // Gaussian sigma (image-2 pixels) of the anti-alias prefilter it gave.
     double scale = 0.0;
     double prefilter_sigma_px = 0.0;
+    // The largest parallax over the depth range where image 2 sees image 1 (image-2
+    // pixels) and the planes swept (Config::max_plane_step_px).
+    double max_parallax_px = 0.0;
+    std::int32_t planes = 0;
 };
 
 // kOk for a camera the sweep accepts (an undistorted, valid pinhole); kUnsupported or
@@ -142,11 +152,13 @@ public:
     // (4 fractional bits): for peer comparisons. Empty before the first compute().
     [[nodiscard]] ImageView<const std::uint16_t> prefilteredImage2() const noexcept;
     // Homography of plane k (image 1 pixel -> image 2 pixel, homogeneous) and its depth,
-    // as used by the last compute(). 0 <= k < planes.
+    // as used by the last compute(). 0 <= k < planesSwept().
     [[nodiscard]] Mat3 homography(std::int32_t k) const noexcept;
     [[nodiscard]] double planeDepth(std::int32_t k) const noexcept;
 
     [[nodiscard]] const Config& config() const noexcept { return config_; }
+    // Planes of the last compute() (Config::max_plane_step_px); 0 before the first.
+    [[nodiscard]] std::int32_t planesSwept() const noexcept { return planes_; }
 
 private:
     [[nodiscard]] Status prepare(const ImageView<const std::uint16_t>& image1,
@@ -165,6 +177,8 @@ private:
 
     double scale_ = 0.0;           // prepare(): image-2 scale at the centre (SweepStats::scale)
     double prefilterSigma_ = 0.0;  // prepare(): anti-alias sigma (SweepStats::prefilter_sigma_px)
+    double maxParallax_ = 0.0;     // prepare(): SweepStats::max_parallax_px
+    std::int32_t planes_ = 0;      // prepare(): planes swept, 3..config_.planes
     Config config_{};
     bool initialized_ = false;
     std::int32_t width_ = 0;
