@@ -3,10 +3,12 @@
 // the band (the entering row in, the leaving one out, one pass), slide along each row for
 // the window sums, and keep per pixel the best plane and its neighbours' scores. Then
 // decide each pixel: reason, parabola in inverse depth, depth.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "geometry.hpp"
+#include "warp_row.hpp"
 
 namespace vtm::descent {
 namespace {
@@ -14,8 +16,6 @@ namespace {
 constexpr float kNoScore = std::numeric_limits<float>::lowest();  // below every score
 constexpr float kNoCost = -1.0F;                                   // costs are >= 0
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr std::int32_t kSubpixelBits = 5;  // bilinear positions in 1/32 px (as OpenCV's INTER_BITS)
-constexpr std::int32_t kSubpixel = 1 << kSubpixelBits;
 
 // The running column sums of the window score (one entry per column): exact integers in
 // doubles (plane_sweep.hpp, colA_).
@@ -69,11 +69,13 @@ void slideRow(const float* i1, const float* w2, const float* o1, const float* ow
 }
 
 // The band's row buffers the column sums run over (buffer row j = image row y0 - r + j):
-// image 1's and the warped image 2's, or image 1's twice (its own sums, imageSums()).
+// image 1's and the warped image 2's, or image 1's twice (its own sums, imageSums()),
+// from the first column summed (width columns of rows stride apart).
 struct BandRows {
     const float* first;
     const float* second;
     std::int32_t width;
+    std::int32_t stride;
     std::int32_t radius;
 };
 
@@ -87,7 +89,7 @@ void startColumns(const ColumnSums& sums, const BandRows& rows, bool ncc) noexce
         sums.c[x] = 0.0;
     }
     for (std::int32_t j = 0; j <= 2 * rows.radius; ++j) {
-        const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(j) * rows.width;
+        const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(j) * rows.stride;
         (ncc ? addRow<true> : addRow<false>)(first + at, second + at, rows.width, sums);
     }
 }
@@ -97,8 +99,8 @@ void startColumns(const ColumnSums& sums, const BandRows& rows, bool ncc) noexce
 void slideColumns(const ColumnSums& sums, const BandRows& rows, std::int32_t bandRow, bool ncc) noexcept {
     const float* const first = rows.first;
     const float* const second = rows.second;
-    const std::ptrdiff_t enter = static_cast<std::ptrdiff_t>(bandRow + 2 * rows.radius) * rows.width;
-    const std::ptrdiff_t leave = static_cast<std::ptrdiff_t>(bandRow - 1) * rows.width;
+    const std::ptrdiff_t enter = static_cast<std::ptrdiff_t>(bandRow + 2 * rows.radius) * rows.stride;
+    const std::ptrdiff_t leave = static_cast<std::ptrdiff_t>(bandRow - 1) * rows.stride;
     (ncc ? slideRow<true> : slideRow<false>)(first + enter, second + enter, first + leave, second + leave,
                                              rows.width, sums);
 }
@@ -130,13 +132,14 @@ inline void keepScore(const RowState& st, std::int32_t x, std::int32_t k, float 
     st.prev[x] = score;
 }
 
-// The window sums along a row from the column sums: a, b, c at the first pixel r.
+// The window sums along a row from the column sums: a, b, c over columns p - r .. p + r - 1,
+// the run before pixel p's window takes column p + r.
 struct WindowRun {
     double a = 0.0, b = 0.0, c = 0.0;
 };
-WindowRun startRun(const ColumnSums& cols, std::int32_t r) noexcept {
+WindowRun startRun(const ColumnSums& cols, std::int32_t p, std::int32_t r) noexcept {
     WindowRun run;
-    for (std::int32_t x = 0; x < 2 * r; ++x) {
+    for (std::int32_t x = p - r; x < p + r; ++x) {
         run.a += cols.a[x];
         run.b += cols.b[x];
         run.c += cols.c[x];
@@ -144,12 +147,17 @@ WindowRun startRun(const ColumnSums& cols, std::int32_t r) noexcept {
     return run;
 }
 
+// The pixels of a band row that are scored, [p0, p1] (decideBand() flags the others
+// kBorder or kOutOfView whatever their scores).
+struct Pixels {
+    std::int32_t p0, p1;
+};
+
 // SAD: the score is minus the window's sum of absolute differences.
-void scoreRowSad(const ColumnSums& cols, std::int32_t r, std::int32_t w, std::int32_t k,
-                 const RowState& st) noexcept {
+void scoreRowSad(const ColumnSums& cols, std::int32_t r, Pixels px, std::int32_t k, const RowState& st) noexcept {
     const double* colA = cols.a;
-    double a = startRun(cols, r).a;
-    for (std::int32_t x = r; x < w - r; ++x) {
+    double a = startRun(cols, px.p0, r).a;
+    for (std::int32_t x = px.p0; x <= px.p1; ++x) {
         a += colA[x + r];
         keepScore(st, x, k, -static_cast<float>(a));
         a -= colA[x - r];
@@ -158,16 +166,16 @@ void scoreRowSad(const ColumnSums& cols, std::int32_t r, std::int32_t w, std::in
 
 // NCC: the score is ncc * |ncc| = cov |cov| / (varI varW), the planes' order without a
 // square root; none where image 1 is flat.
-void scoreRowNcc(const ColumnSums& cols, double n, std::int32_t r, std::int32_t w, std::int32_t k,
+void scoreRowNcc(const ColumnSums& cols, double n, std::int32_t r, Pixels px, std::int32_t k,
                  const RowState& st) noexcept {
     const double* sumI = st.sumI;
     const double* varI = st.varI;
     const double* colA = cols.a;
     const double* colB = cols.b;
     const double* colC = cols.c;
-    WindowRun run = startRun(cols, r);
+    WindowRun run = startRun(cols, px.p0, r);
     double a = run.a, b = run.b, c = run.c;
-    for (std::int32_t x = r; x < w - r; ++x) {
+    for (std::int32_t x = px.p0; x <= px.p1; ++x) {
         a += colA[x + r];
         b += colB[x + r];
         c += colC[x + r];
@@ -200,81 +208,35 @@ void PlaneSweep::loadImage1Rows(const ImageView<const std::uint16_t>& image1, st
     }
 }
 
-// Image 2 sampled at H_k p for the band's rows. A sample outside image 2 (or behind
-// camera 2) is 0: such windows belong to pixels that decideBand() flags kOutOfView (its
-// test maps the same positions: 32 u here is exactly 32 times detail::mapPixel's u).
-void PlaneSweep::warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows) noexcept {
+// Image 2 sampled at H_k p for the band's rows, columns [x0, x1) (detail::warpRow).
+void PlaneSweep::warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows, std::int32_t x0,
+                          std::int32_t x1) noexcept {
     const double* h = &homographies_[9U * static_cast<std::size_t>(k)];
-    // The first two rows times 32: u * 32 = (32 X) / W exactly (a power of two), so the
-    // 1/32 px positions are the same integers as from u itself, one multiply fewer.
-    const double s = static_cast<double>(kSubpixel);
-    const double h0 = s * h[0], h3 = s * h[3];
-    const std::int32_t w = width_;
-    // Image 2's extent in 1/32 px, as centre and half-width: |32 u - cu| <= cu is
-    // 0 <= 32 u <= 32 (width - 1), i.e. u inside (a rounded difference cannot leave the
-    // interval [-cu, cu] from inside it), and it is false for NaN.
-    const double cu = 0.5 * s * static_cast<double>(width_ - 1);
-    const double cv = 0.5 * s * static_cast<double>(height_ - 1);
-    const std::uint16_t* src = image2_.data();
     for (std::int32_t j = 0; j < rows; ++j) {
-        const double y = static_cast<double>(yFirst + j);
-        const double bx = s * (h[1] * y + h[2]);
-        const double by = s * (h[4] * y + h[5]);
-        const double bw = h[7] * y + h[8];
-        float* out = warped_.data() + static_cast<std::ptrdiff_t>(j) * w;
-        double xNext = 0.0;  // x as a double without a conversion per pixel (exact)
-        for (std::int32_t x = 0; x < w; ++x) {
-            const double xd = xNext;
-            xNext += 1.0;
-            const double W = h[6] * xd + bw;
-            if (!(W > 0.0)) {
-                out[x] = 0.0F;
-                continue;
-            }
-            const double inv = 1.0 / W;
-            const double pu = (h0 * xd + bx) * inv;  // 32 u
-            const double pv = (h3 * xd + by) * inv;  // 32 v
-            if (!(std::fabs(pu - cu) <= cu && std::fabs(pv - cv) <= cv)) {
-                out[x] = 0.0F;
-                continue;
-            }
-            // floor(32 u + 0.5): 32 u > -0.5 here (rounding at the lower edge can let
-            // through a value a hair below 0), so truncation is the floor, the same integers
-            // as std::floor without its libm call on the 750 (no rounding instruction).
-            // Not lround: halves go up here.
-            const auto ui = static_cast<std::int32_t>(pu + 0.5);  // NOLINT(bugprone-incorrect-roundings)
-            const auto vi = static_cast<std::int32_t>(pv + 0.5);  // NOLINT(bugprone-incorrect-roundings)
-            const std::int32_t ix = ui >> kSubpixelBits;
-            const std::int32_t fx = ui & (kSubpixel - 1);
-            const std::int32_t iy = vi >> kSubpixelBits;
-            const std::int32_t fy = vi & (kSubpixel - 1);
-            // At the last column (row) fx (fy) is 0: the pixel after it, the next row's
-            // first or the padding row (prefilter()), enters with weight 0.
-            const std::uint16_t* p = src + static_cast<std::ptrdiff_t>(iy) * w + ix;
-            const auto top = static_cast<std::uint32_t>(p[0] * (kSubpixel - fx) + p[1] * fx);
-            const auto bottom = static_cast<std::uint32_t>(p[w] * (kSubpixel - fx) + p[w + 1] * fx);
-            const std::uint32_t sum = top * static_cast<std::uint32_t>(kSubpixel - fy) +
-                                      bottom * static_cast<std::uint32_t>(fy);
-            out[x] = static_cast<float>(static_cast<std::int32_t>((sum + 512U) >> 10U));
-        }
+        float* out = warped_.data() + static_cast<std::ptrdiff_t>(j) * width_;
+        detail::warpRow(h, yFirst + j, x0, x1, image2_.data(), width_, height_, out);
     }
 }
 
-void PlaneSweep::scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1) noexcept {
-    warpRows(k, y0 - radius_, y1 - y0 + 2 * radius_);
-    const ColumnSums sums{colA_.data(), colB_.data(), colC_.data()};
-    const BandRows rows{image1Rows_.data(), warped_.data(), width_, radius_};
+// Plane k over the band's pixels p0..p1: its columns p0 - r .. p1 + r warped and summed.
+void PlaneSweep::scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1, std::int32_t p0,
+                            std::int32_t p1) noexcept {
+    const std::int32_t c0 = p0 - radius_;
+    const std::int32_t c1 = p1 + radius_ + 1;  // past the last column
+    warpRows(k, y0 - radius_, y1 - y0 + 2 * radius_, c0, c1);
+    const ColumnSums sums{colA_.data() + c0, colB_.data() + c0, colC_.data() + c0};
+    const BandRows rows{image1Rows_.data() + c0, warped_.data() + c0, c1 - c0, width_, radius_};
     const bool ncc = config_.score == Score::kNcc;
     startColumns(sums, rows, ncc);
     for (std::int32_t j = 0; j < y1 - y0; ++j) {
         if (j > 0) {
             slideColumns(sums, rows, j, ncc);
         }
-        scoreRow(k, j);
+        scoreRow(k, j, p0, p1);
     }
 }
 
-void PlaneSweep::scoreRow(std::int32_t k, std::int32_t bandRow) noexcept {
+void PlaneSweep::scoreRow(std::int32_t k, std::int32_t bandRow, std::int32_t p0, std::int32_t p1) noexcept {
     // Raw pointers into the spans, taken once (the loops' bounds keep every index inside:
     // columns 0..w-1, the band row's pixels r..w-r-1).
     const std::ptrdiff_t rowBase = static_cast<std::ptrdiff_t>(bandRow) * width_;
@@ -283,9 +245,9 @@ void PlaneSweep::scoreRow(std::int32_t k, std::int32_t bandRow) noexcept {
                       prevScore_.data() + rowBase,  belowScore_.data() + rowBase, aboveScore_.data() + rowBase,
                       bestIndex_.data() + rowBase};
     if (config_.score == Score::kNcc) {
-        scoreRowNcc(cols, static_cast<double>(config_.window * config_.window), radius_, width_, k, st);
+        scoreRowNcc(cols, static_cast<double>(config_.window * config_.window), radius_, Pixels{p0, p1}, k, st);
     } else {
-        scoreRowSad(cols, radius_, width_, k, st);
+        scoreRowSad(cols, radius_, Pixels{p0, p1}, k, st);
     }
 }
 
@@ -297,7 +259,7 @@ void PlaneSweep::imageSums(std::int32_t y0, std::int32_t y1) noexcept {
     const auto nd = static_cast<double>(config_.window * config_.window);
     // The image-1 rows stand in for the warped ones: a = sum i, b = sum i^2.
     const ColumnSums sums{colA_.data(), colB_.data(), colC_.data()};
-    const BandRows rows{image1Rows_.data(), image1Rows_.data(), w, r};
+    const BandRows rows{image1Rows_.data(), image1Rows_.data(), w, w, r};
     startColumns(sums, rows, true);
     for (std::int32_t j = 0; j < y1 - y0; ++j) {
         if (j > 0) {
@@ -305,7 +267,7 @@ void PlaneSweep::imageSums(std::int32_t y0, std::int32_t y1) noexcept {
         }
         double* const sumI = sumI_.data() + static_cast<std::ptrdiff_t>(j) * w;
         double* const varI = varI_.data() + static_cast<std::ptrdiff_t>(j) * w;
-        const WindowRun run = startRun(sums, r);
+        const WindowRun run = startRun(sums, r, r);
         double s = run.a;
         double ss = run.b;
         for (std::int32_t x = r; x < w - r; ++x) {
@@ -334,8 +296,11 @@ void PlaneSweep::sweepBand(const ImageView<const std::uint16_t>& image1, std::in
     if (config_.score == Score::kNcc) {
         imageSums(y0, y1);
     }
-    for (std::int32_t k = 0; k < planes_; ++k) {
-        scorePlane(k, y0, y1);
+    std::int32_t p0 = 0, p1 = -1;
+    inViewColumns(y0, y1, p0, p1);
+    // bound: planes_ <= Config::planes; none when no pixel of the band can get a depth
+    for (std::int32_t k = 0; p0 <= p1 && k < planes_; ++k) {
+        scorePlane(k, y0, y1, p0, p1);
     }
 }
 
@@ -360,6 +325,41 @@ bool windowInsideForAllPlanes(const double* hNear, const double* hFar, double x,
     }
     return true;
 }
+
+}  // namespace
+
+// A superset of the pixels of the band whose window stays inside image 2 for every plane
+// (decideBand()'s kOutOfView test: its corners at the nearest and the farthest plane),
+// as the first and last column: only they can get a depth, so only their windows are
+// scored. Per row the intersection of each corner's span (detail::spanMappedInside).
+// p0 > p1: none.
+void PlaneSweep::inViewColumns(std::int32_t y0, std::int32_t y1, std::int32_t& p0, std::int32_t& p1) const noexcept {
+    const double* hs[2] = {&homographies_[9U * static_cast<std::size_t>(planes_ - 1)], &homographies_[0]};
+    const std::int32_t r = radius_;
+    const auto rd = static_cast<double>(r);
+    p0 = width_;
+    p1 = -1;
+    for (std::int32_t y = y0; y < y1; ++y) {
+        double lo = rd;
+        double hi = static_cast<double>(width_ - 1 - r);
+        for (const double* h : hs) {
+            for (std::int32_t corner = 0; corner < 4; ++corner) {
+                const double dx = (corner & 1) != 0 ? rd : -rd;
+                const double yc = static_cast<double>(y) + ((corner & 2) != 0 ? rd : -rd);
+                double a = 0.0, b = 0.0;
+                detail::spanMappedInside(h, dx, yc, width_, height_, a, b);
+                lo = std::max(lo, a);
+                hi = std::min(hi, b);
+            }
+        }
+        if (lo <= hi) {  // lo, hi >= 0: truncation is floor; one more column each side
+            p0 = std::min(p0, std::max(r, static_cast<std::int32_t>(lo) - 1));
+            p1 = std::max(p1, std::min(width_ - 1 - r, static_cast<std::int32_t>(hi) + 1));
+        }
+    }
+}
+
+namespace {
 
 // A kept score as the cost the parabola and the score output use: SAD: the sum of
 // absolute differences; NCC: 1 - ncc (0 .. 2). kNoCost where there is no score.

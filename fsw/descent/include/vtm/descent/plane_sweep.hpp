@@ -167,9 +167,10 @@ private:
     void prefilter(const ImageView<const std::uint16_t>& image2, double sigma_px) noexcept;
     void sweepBand(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept;
     void loadImage1Rows(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1) noexcept;
-    void warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows) noexcept;
-    void scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1) noexcept;
-    void scoreRow(std::int32_t k, std::int32_t bandRow) noexcept;
+    void warpRows(std::int32_t k, std::int32_t yFirst, std::int32_t rows, std::int32_t x0, std::int32_t x1) noexcept;
+    void inViewColumns(std::int32_t y0, std::int32_t y1, std::int32_t& p0, std::int32_t& p1) const noexcept;
+    void scorePlane(std::int32_t k, std::int32_t y0, std::int32_t y1, std::int32_t p0, std::int32_t p1) noexcept;
+    void scoreRow(std::int32_t k, std::int32_t bandRow, std::int32_t p0, std::int32_t p1) noexcept;
     void imageSums(std::int32_t y0, std::int32_t y1) noexcept;
     void markRow(std::int32_t y, const SweepOutput& out, SweepStats& stats) noexcept;
     void decideBand(const ImageView<const std::uint16_t>& image1, std::int32_t y0, std::int32_t y1,
