@@ -58,7 +58,6 @@ refine::Config descentRefineConfig() noexcept {
 descent::Config descentSweepConfig() noexcept {
     descent::Config c;
     c.max_plane_step_px = 2.0;
-    c.band_rows = 64;
     return c;
 }
 

@@ -66,8 +66,7 @@ constexpr std::int32_t kMaxGridCells = 4096;  // elevation grid side
 
 // The sweep's defaults with a plane step of at most 2 image-2 pixels over the largest
 // parallax (descent::Config::max_plane_step_px): the 64 planes are the capacity, a pair
-// whose parallax is smaller sweeps fewer; and bands of 64 rows (the window's extra rows
-// warped per band weigh half as much as with 32, for 1.4 MB more; docs/app.md "Cost").
+// whose parallax is smaller sweeps fewer (docs/app.md "Cost").
 [[nodiscard]] descent::Config descentSweepConfig() noexcept;
 
 struct DescentMapperConfig {
