@@ -109,27 +109,38 @@ SweepRun runSweep(const Config& config, const PairGeometry& geometry) {
     return r;
 }
 
+// Image-2 position of image-1 pixel (x, y) at `depth` along camera 1's axis, from the
+// pair's true geometry: the test's own projection, not the module's.
+Vec2 image2At(double x, double y, double depth) {
+    struct Motion {
+        Mat3 K, Kinv, R;
+        Vec3 t;
+    };
+    static const Motion m = [] {
+        const Pair& p = pair();
+        Motion q;
+        q.R = p.geometry.site_from_cam2.R.transpose() * p.geometry.site_from_cam1.R;
+        q.t = p.geometry.site_from_cam2.R.transpose() * (p.geometry.site_from_cam1.t_m - p.geometry.site_from_cam2.t_m);
+        q.K << p.camera.fx_px, 0, p.camera.cx_px, 0, p.camera.fy_px, p.camera.cy_px, 0, 0, 1;
+        q.Kinv = q.K.inverse();
+        return q;
+    }();
+    const Vec3 X1 = m.Kinv * Vec3(x, y, 1.0) * depth;
+    const Vec3 q = m.K * (m.R * X1 + m.t);
+    return Vec2(q.x() / q.z(), q.y() / q.z());
+}
+
 // Registration error of the valid pixels, image-2 pixels: distance between image 1's
 // pixel mapped through the estimated depth's plane and through the true depth's plane.
 // (Depth error itself scales with 1 / parallax, which vanishes at the focus of expansion.)
 std::vector<double> registrationErrors(const SweepRun& r) {
     const Pair& p = pair();
-    const Mat3 R = p.geometry.site_from_cam2.R.transpose() * p.geometry.site_from_cam1.R;
-    const Vec3 t =
-        p.geometry.site_from_cam2.R.transpose() * (p.geometry.site_from_cam1.t_m - p.geometry.site_from_cam2.t_m);
-    Mat3 K;
-    K << p.camera.fx_px, 0, p.camera.cx_px, 0, p.camera.fy_px, p.camera.cy_px, 0, 0, 1;
-    auto map = [&](double x, double y, double depth) {
-        const Vec3 X1 = K.inverse() * Vec3(x, y, 1.0) * depth;
-        const Vec3 q = K * (R * X1 + t);
-        return Vec2(q.x() / q.z(), q.y() / q.z());
-    };
     std::vector<double> e;
     for (std::int32_t y = 0; y < kSize; ++y) {
         for (std::int32_t x = 0; x < kSize; ++x) {
             const auto i = static_cast<std::size_t>(y * kSize + x);
             if (r.reason[i] == static_cast<std::uint8_t>(Reason::kValid)) {
-                e.push_back((map(x, y, r.depth[i]) - map(x, y, p.f1.depth_m[i])).norm());
+                e.push_back((image2At(x, y, r.depth[i]) - image2At(x, y, p.f1.depth_m[i])).norm());
             }
         }
     }
@@ -183,18 +194,6 @@ TEST(PlaneSweep, SlopedPlaneDepthIsRecoveredWithNcc) {
     }
 }
 
-// Image-2 position of image-1 pixel (x, y) on the plane of inverse depth inv (camera 1's
-// axis), from the pair's true geometry: the test's own projection, not the module's.
-Vec2 onPlane(double x, double y, double inv) {
-    const Pair& p = pair();
-    const Mat3 R = p.geometry.site_from_cam2.R.transpose() * p.geometry.site_from_cam1.R;
-    const Vec3 t =
-        p.geometry.site_from_cam2.R.transpose() * (p.geometry.site_from_cam1.t_m - p.geometry.site_from_cam2.t_m);
-    const Vec3 ray((x - p.camera.cx_px) / p.camera.fx_px, (y - p.camera.cy_px) / p.camera.fy_px, 1.0);
-    const Vec3 q = R * (ray / inv) + t;
-    return Vec2(p.camera.fx_px * q.x() / q.z() + p.camera.cx_px, p.camera.fy_px * q.y() / q.z() + p.camera.cy_px);
-}
-
 // The largest image-2 step between neighbouring planes of an n-plane sweep of c's range
 // over the pixels that got a depth.
 double largestStepOverValidPixels(const Config& c, const SweepRun& r, std::int32_t n) {
@@ -207,7 +206,8 @@ double largestStepOverValidPixels(const Config& c, const SweepRun& r, std::int32
                 continue;
             }
             for (std::int32_t k = 0; k + 1 < n; ++k) {
-                const double d = (onPlane(x, y, far + step * (k + 1)) - onPlane(x, y, far + step * k)).norm();
+                const double d =
+                    (image2At(x, y, 1.0 / (far + step * (k + 1))) - image2At(x, y, 1.0 / (far + step * k))).norm();
                 largest = std::max(largest, d);
             }
         }

@@ -192,7 +192,7 @@ double inViewGrid(const PlaneFamily& f, std::int32_t width, std::int32_t height,
         if (detail::mapPixel(hNear, x, y, un, vn) && detail::mapPixel(hFar, x, y, uf, vf) && inside(un, vn) &&
             inside(uf, vf)) {
             grid.in_view[i / 32] |= 1U << static_cast<std::uint32_t>(i % 32);
-            const double p = distance(hNear, hFar, x, y);
+            const double p = std::sqrt((un - uf) * (un - uf) + (vn - vf) * (vn - vf));  // the positions just mapped
             largest = p > largest ? p : largest;
         }
     }
