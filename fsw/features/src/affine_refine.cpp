@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bilinear.hpp"
 #include "feature_limits.hpp"
-#include "floor_int.hpp"
 #include "vtm/core/math.hpp"
 
 namespace vtm::features {
@@ -28,19 +28,7 @@ struct Params {
     double offset = 0.0;
 };
 
-// Bilinear sample at (x, y); the caller keeps (x, y) inside [0, w-1] x [0, h-1] and the
-// image at least 2 x 2 (windowInside guarantees both).
-double sample(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
-    const std::int32_t x0 = std::min(detail::floorToInt(x), img.width() - 2);
-    const std::int32_t y0 = std::min(detail::floorToInt(y), img.height() - 2);
-    const double fx = x - static_cast<double>(x0);
-    const double fy = y - static_cast<double>(y0);
-    const std::uint8_t* r0 = img.row(y0) + x0;
-    const std::uint8_t* r1 = img.row(y0 + 1) + x0;
-    const double top = static_cast<double>(r0[0]) + fx * (static_cast<double>(r0[1]) - static_cast<double>(r0[0]));
-    const double bottom = static_cast<double>(r1[0]) + fx * (static_cast<double>(r1[1]) - static_cast<double>(r1[0]));
-    return top + fy * (bottom - top);
-}
+using detail::sampleLinear;
 
 // Whether centre + warp (u, v), |u|, |v| <= kHalf, widened by `margin`, lies inside the
 // image's sample domain [0, w-1] x [0, h-1] (an affine image of a square: its extent is
@@ -67,7 +55,7 @@ void sampleTemplate(const ImageView<const std::uint8_t>& img, const Vec2& a, dou
     std::int32_t i = 0;
     for (std::int32_t v = -kHalf; v <= kHalf; ++v) {
         for (std::int32_t u = -kHalf; u <= kHalf; ++u) {
-            values[i] = sample(img, a.x() + static_cast<double>(u), a.y() + static_cast<double>(v));
+            values[i] = sampleLinear(img, a.x() + static_cast<double>(u), a.y() + static_cast<double>(v));
             ++i;
         }
     }
@@ -167,9 +155,8 @@ void normalEquations(const ImageView<const std::uint8_t>& img_b, const double* v
         for (std::int32_t u = -kHalf; u <= kHalf; ++u) {
             const double du = static_cast<double>(u);
             const Vec2 q = p.b + p.warp * Vec2(du, dv);
-            const double ib = sample(img_b, q.x(), q.y());
-            const double gx = sample(img_b, q.x() + kGradientStep_px, q.y()) - sample(img_b, q.x() - kGradientStep_px, q.y());
-            const double gy = sample(img_b, q.x(), q.y() + kGradientStep_px) - sample(img_b, q.x(), q.y() - kGradientStep_px);
+            const detail::CrossSample cs = detail::sampleCross(img_b, q.x(), q.y(), kGradientStep_px);
+            const double ib = cs.value, gx = cs.gx, gy = cs.gy;
             const double ia = values_a[i];
             ++i;
             const double e = ib - (p.gain * ia + p.offset);
@@ -189,7 +176,7 @@ double windowNcc(const ImageView<const std::uint8_t>& img_b, const double* value
     for (std::int32_t v = -kHalf; v <= kHalf; ++v) {
         for (std::int32_t u = -kHalf; u <= kHalf; ++u) {
             const Vec2 q = p.b + p.warp * Vec2(static_cast<double>(u), static_cast<double>(v));
-            const double ib = sample(img_b, q.x(), q.y());
+            const double ib = sampleLinear(img_b, q.x(), q.y());
             const double ia = values_a[i];
             ++i;
             sa += ia;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "feature_limits.hpp"
+#include "tensor_det.hpp"
 
 namespace vtm::features {
 namespace {
@@ -59,14 +60,45 @@ AllowedPart allowedPart(const Span<float>& w, std::int32_t width, std::int32_t h
 struct Products {
     std::int32_t xx, yy, xy;
 };
-Products productsAt(const ImageView<const std::uint8_t>& img, std::int32_t x, std::int32_t y) noexcept {
-    const std::uint8_t* u = img.row(y - 1);
-    const std::uint8_t* m = img.row(y);
-    const std::uint8_t* d = img.row(y + 1);
+Products productsAt(const std::uint8_t* u, const std::uint8_t* m, const std::uint8_t* d, std::int32_t x) noexcept {
     auto v = [](const std::uint8_t* r, std::int32_t i) { return static_cast<std::int32_t>(r[i]); };
     const std::int32_t gx = (v(u, x + 1) - v(u, x - 1)) + 2 * (v(m, x + 1) - v(m, x - 1)) + (v(d, x + 1) - v(d, x - 1));
     const std::int32_t gy = (v(d, x - 1) - v(u, x - 1)) + 2 * (v(d, x) - v(u, x)) + (v(d, x + 1) - v(u, x + 1));
     return Products{gx * gx, gy * gy, gx * gy};
+}
+
+// The column sums of the gradient products over rows: adds row `in`'s products at every
+// x of 1..width-2 and, when out >= 1, subtracts row `out`'s.
+struct ColumnSums {
+    std::int32_t* xx;
+    std::int32_t* yy;
+    std::int32_t* xy;
+};
+void slideColumns(const ImageView<const std::uint8_t>& img, std::int32_t in, std::int32_t out,
+                  const ColumnSums& c) noexcept {
+    const std::uint8_t* iu = img.row(in - 1);
+    const std::uint8_t* im = img.row(in);
+    const std::uint8_t* id = img.row(in + 1);
+    const std::int32_t width = img.width();
+    if (out < 1) {
+        for (std::int32_t x = 1; x < width - 1; ++x) {
+            const Products p = productsAt(iu, im, id, x);
+            c.xx[x] += p.xx;
+            c.yy[x] += p.yy;
+            c.xy[x] += p.xy;
+        }
+        return;
+    }
+    const std::uint8_t* ou = img.row(out - 1);
+    const std::uint8_t* om = img.row(out);
+    const std::uint8_t* od = img.row(out + 1);
+    for (std::int32_t x = 1; x < width - 1; ++x) {
+        const Products p = productsAt(iu, im, id, x);
+        const Products q = productsAt(ou, om, od, x);
+        c.xx[x] += p.xx - q.xx;  // int32 wraps nowhere: every sum stays below 2^31
+        c.yy[x] += p.yy - q.yy;
+        c.xy[x] += p.xy - q.xy;
+    }
 }
 
 // Strict total order for the cap: larger w first, then row, then column.
@@ -175,27 +207,12 @@ void ForstnerDetector::computeStrength(const ImageView<const std::uint8_t>& imag
     std::int32_t* cyy = cxx + width;
     std::int32_t* cxy = cyy + width;
     std::fill(columns_.data(), columns_.data() + 3U * static_cast<std::size_t>(width), 0);
+    const ColumnSums columns{cxx, cyy, cxy};
     for (std::int32_t y = 1; y <= 2 * h; ++y) {
-        for (std::int32_t x = 1; x < width - 1; ++x) {
-            const Products p = productsAt(image, x, y);
-            cxx[x] += p.xx;
-            cyy[x] += p.yy;
-            cxy[x] += p.xy;
-        }
+        slideColumns(image, y, 0, columns);
     }
     for (std::int32_t y = h + 1; y <= height - 2 - h; ++y) {
-        for (std::int32_t x = 1; x < width - 1; ++x) {
-            const Products in = productsAt(image, x, y + h);
-            cxx[x] += in.xx;
-            cyy[x] += in.yy;
-            cxy[x] += in.xy;
-            if (y - h - 1 >= 1) {
-                const Products out = productsAt(image, x, y - h - 1);
-                cxx[x] -= out.xx;
-                cyy[x] -= out.yy;
-                cxy[x] -= out.xy;
-            }
-        }
+        slideColumns(image, y + h, y - h - 1, columns);
         std::int32_t sxx = 0, syy = 0, sxy = 0;
         for (std::int32_t x = 1; x <= 2 * h; ++x) {
             sxx += cxx[x];
@@ -206,12 +223,11 @@ void ForstnerDetector::computeStrength(const ImageView<const std::uint8_t>& imag
             sxx += cxx[x + h];
             syy += cyy[x + h];
             sxy += cxy[x + h];
-            const std::int64_t tr = static_cast<std::int64_t>(sxx) + syy;
-            const std::int64_t det = static_cast<std::int64_t>(sxx) * syy - static_cast<std::int64_t>(sxy) * sxy;
-            if (tr > 0 && det > 0) {  // int64 exact; one rounding each to double, then IEEE division
-                const auto trd = static_cast<double>(tr);
-                w_[idx(x, y, width)] = static_cast<float>(static_cast<double>(det) / trd);
-                q_[idx(x, y, width)] = static_cast<float>(4.0 * static_cast<double>(det) / (trd * trd));
+            const double trd = static_cast<double>(sxx) + static_cast<double>(syy);  // exact: < 2^32
+            const double det = detail::tensorDeterminant(sxx, syy, sxy);
+            if (trd > 0.0 && det > 0.0) {  // IEEE division of the two
+                w_[idx(x, y, width)] = static_cast<float>(det / trd);
+                q_[idx(x, y, width)] = static_cast<float>(4.0 * det / (trd * trd));
             }
             sxx -= cxx[x - h];
             syy -= cyy[x - h];
@@ -410,8 +426,11 @@ bool ForstnerDetector::pointEstimate(const ImageView<const std::uint8_t>& image,
     const std::int32_t h = config_.window / 2;
     std::int64_t nxx = 0, nyy = 0, nxy = 0, bx = 0, by = 0;
     for (std::int32_t dy = -h; dy <= h; ++dy) {
+        const std::uint8_t* u = image.row(y + dy - 1);
+        const std::uint8_t* m = image.row(y + dy);
+        const std::uint8_t* d = image.row(y + dy + 1);
         for (std::int32_t dx = -h; dx <= h; ++dx) {
-            const Products p = productsAt(image, x + dx, y + dy);
+            const Products p = productsAt(u, m, d, x + dx);
             nxx += p.xx;
             nyy += p.yy;
             nxy += p.xy;

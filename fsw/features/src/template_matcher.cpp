@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "bilinear.hpp"
 #include "feature_limits.hpp"
 #include "floor_int.hpp"
 #include "polyline.hpp"
@@ -29,10 +30,7 @@ using detail::Template;
 // projection is smooth: only the ratio of the two Jacobians matters).
 constexpr double kPlaneStepRel = 0.01;
 
-// Local affine map of pixel offsets [a b; c d] (from-image offsets -> to-image offsets).
-struct Affine2 {
-    double a = 1.0, b = 0.0, c = 0.0, d = 1.0;
-};
+using detail::Affine2;  // local affine map of pixel offsets (bilinear.hpp)
 
 Vec2 apply(const Affine2& m, const Vec2& v) noexcept {
     return Vec2(m.a * v.x() + m.b * v.y(), m.c * v.x() + m.d * v.y());
@@ -103,37 +101,13 @@ bool templateFits(const ImageView<const std::uint8_t>& img, Pos p, std::int32_t 
     return p.x >= half && p.y >= half && p.x < img.width() - half && p.y < img.height() - half;
 }
 
-// Bilinear sample of `img` at (x, y) clamped to the image, in 1/kWeightOne grey levels.
-// The weights are quantised first, so the result is an exact integer on every target.
-std::uint16_t sampleBilinear(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
-    const double xc = std::clamp(x, 0.0, static_cast<double>(img.width() - 1));
-    const double yc = std::clamp(y, 0.0, static_cast<double>(img.height() - 1));
-    const std::int32_t x0 = std::min(detail::floorToInt(xc), img.width() - 2);
-    const std::int32_t y0 = std::min(detail::floorToInt(yc), img.height() - 2);
-    const std::int32_t wx = roundToInt((xc - static_cast<double>(x0)) * static_cast<double>(kWeightOne));
-    const std::int32_t wy = roundToInt((yc - static_cast<double>(y0)) * static_cast<double>(kWeightOne));
-    const std::uint8_t* r0 = img.row(y0) + x0;
-    const std::uint8_t* r1 = img.row(y0 + 1) + x0;
-    const std::int32_t top = r0[0] * (kWeightOne - wx) + r0[1] * wx;
-    const std::int32_t bottom = r1[0] * (kWeightOne - wx) + r1[1] * wx;
-    const std::int32_t v = (top * (kWeightOne - wy) + bottom * wy + kWeightOne / 2) >> kWeightShift;
-    return static_cast<std::uint16_t>(v);
-}
-
 // Template T(u) = img(centre + inv u) for u on the window grid (bilinear). With inv the
 // identity every sample falls on a pixel: T is the plain window, scaled by kWeightOne.
 Template buildTemplate(const ImageView<const std::uint8_t>& img, Pos centre, const Affine2& inv, std::int32_t half,
                        std::uint16_t* dst) noexcept {
     Template t;
     t.values = dst;
-    std::size_t i = 0U;
-    for (std::int32_t dy = -half; dy <= half; ++dy) {
-        for (std::int32_t dx = -half; dx <= half; ++dx) {
-            const Vec2 off = apply(inv, Vec2(static_cast<double>(dx), static_cast<double>(dy)));
-            dst[i] = sampleBilinear(img, static_cast<double>(centre.x) + off.x(), static_cast<double>(centre.y) + off.y());
-            ++i;
-        }
-    }
+    detail::sampleQuantisedGrid(img, static_cast<double>(centre.x), static_cast<double>(centre.y), inv, half, dst);
     detail::setTemplateSums(t, half);
     return t;
 }
