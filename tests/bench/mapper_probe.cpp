@@ -3,8 +3,11 @@
 // under qemu-user with the instruction-counting plugin (instructions per stage, from the
 // plugin's per-symbol profile).
 //
-//   vtm_mapper_probe rover|descent MANIFEST POSE_LOG R00 R01 R02 R10 R11 R12 R20 R21 R22 PX PY PZ [RUNS]
+//   vtm_mapper_probe rover|descent MANIFEST POSE_LOG R00 R01 R02 R10 R11 R12 R20 R21 R22 PX PY PZ [RUNS [CONTENT]]
 //
+// CONTENT (probe_content.hpp; default texture: the frames as rendered) replaces the frames'
+// pixels with an adversarial content of the same size and bit depth, the poses unchanged
+// (issue 22 item 5: each stage's count against the scenario frames').
 // Frames from hal::FileCamera (MANIFEST: a `vtm-sim render` folder's <camera>.frames),
 // poses from hal::FileOdometry (POSE_LOG: its odometry.poses), the camera mount on the
 // vehicle as R_vehicle_from_camera (row-major) and the camera centre in the vehicle frame.
@@ -19,13 +22,16 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "hal/event_log.hpp"
 #include "hal/file/file_camera.hpp"
 #include "hal/file/file_odometry.hpp"
 #include "hal/posix/monotonic_clock.hpp"
+#include "probe_content.hpp"
 #include "vtm/app/descent_mapper.hpp"
 #include "vtm/app/wide_baseline_mapper.hpp"
 
@@ -46,6 +52,55 @@ public:
 
 private:
     vtm::hal::MonotonicClock clock_;
+};
+
+// hal::FileCamera with the frames' content replaced (issue 22 item 5, probe_content.hpp):
+// "texture" leaves the scenario's frames as they are; "saturated" is their levels times 4
+// clipped; the other kinds ignore them. The noise differs from frame to frame (a
+// 32-bit LCG seeded by the frame's index), so the two frames of a pair do not match.
+class ContentCamera final : public vtm::hal::Camera {
+public:
+    ContentCamera(vtm::hal::FileCamera& inner, std::string kind) : inner_(inner), kind_(std::move(kind)) {}
+    [[nodiscard]] vtm::Status describe(vtm::hal::CameraDescription& out) const override {
+        return inner_.describe(out);
+    }
+    [[nodiscard]] vtm::Status capture(const vtm::ImageView<std::uint8_t>& out, vtm::hal::FrameInfo& info) override {
+        VTM_RETURN_IF_ERROR(inner_.capture(out, info));
+        replace(out);
+        return vtm::Status::ok();
+    }
+    [[nodiscard]] vtm::Status capture16(const vtm::ImageView<std::uint16_t>& out, vtm::hal::FrameInfo& info) override {
+        VTM_RETURN_IF_ERROR(inner_.capture16(out, info));
+        replace(out);
+        return vtm::Status::ok();
+    }
+    void rewind() noexcept {
+        inner_.rewind();
+        frame_ = 0U;
+    }
+
+private:
+    template <typename T>
+    void replace(const vtm::ImageView<T>& img) {
+        vtm::hal::CameraDescription d;
+        if (!inner_.describe(d).isOk()) {
+            return;
+        }
+        const int max = (1 << d.bit_depth) - 1;
+        const vtm::bench::ContentLevels levels{max, max / 2, max / 4, 3 * max / 4};
+        std::uint32_t state = 2463534242U + 7919U * ++frame_;
+        for (std::int32_t y = 0; y < img.height(); ++y) {
+            T* row = img.row(y);
+            for (std::int32_t x = 0; x < img.width(); ++x) {
+                state = state * 1664525U + 1013904223U;
+                const int r = static_cast<int>((state >> 8) % static_cast<std::uint32_t>(max + 1));
+                row[x] = static_cast<T>(vtm::bench::contentValue(kind_, levels, x, y, img.width(), row[x], r));
+            }
+        }
+    }
+    vtm::hal::FileCamera& inner_;
+    std::string kind_;
+    std::uint32_t frame_ = 0U;
 };
 
 double parseDouble(const char* s, const char* what) {
@@ -98,7 +153,7 @@ void printStages(const vtm::app::StageLog& log) {
 }
 
 template <typename Mapper, typename Config>
-int fly(Config config, vtm::hal::FileCamera& camera, vtm::hal::FileOdometry& odometry, int runs) {
+int fly(Config config, ContentCamera& camera, vtm::hal::FileOdometry& odometry, int runs) {
     std::vector<std::byte> pool(Mapper::workspaceBytes(config) + 64U);
     vtm::Arena arena(pool.data(), pool.size());
     static MarkedClock clock;
@@ -132,6 +187,8 @@ int fly(Config config, vtm::hal::FileCamera& camera, vtm::hal::FileOdometry& odo
                 h = hashValue(hashValue(hashValue(hashValue(h, q.x_m), q.y_m), q.z_m), q.sigma_range_m);
             }
             std::printf("points %zu\n", p->points.size());
+            std::printf("features %d attempted %d matched %d\n", p->refine.detection.kept, p->refine.matching.attempted,
+                        p->refine.matching.matched);
         }
     } else {
         const vtm::app::DescentProducts* p = mapper->products();
@@ -151,10 +208,14 @@ int fly(Config config, vtm::hal::FileCamera& camera, vtm::hal::FileOdometry& odo
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 16 && argc != 17) {
+    if (argc < 16 || argc > 18) {
         std::fprintf(stderr,
                      "usage: vtm_mapper_probe rover|descent MANIFEST POSE_LOG R00 R01 R02 R10 R11 R12 R20 R21 R22 PX "
-                     "PY PZ [RUNS]\n");
+                     "PY PZ [RUNS [CONTENT]]\n");
+        return 2;
+    }
+    const std::string content = argc == 18 ? argv[17] : "texture";
+    if (!vtm::bench::knownContent(content, "mapper_probe")) {
         return 2;
     }
     const bool rover = std::strcmp(argv[1], "rover") == 0;
@@ -169,20 +230,21 @@ int main(int argc, char** argv) {
     for (int i = 0; i < 3; ++i) {
         mount.position_vehicle_m[i] = parseDouble(argv[13 + i], "mount position");
     }
-    const int runs = argc == 17 ? static_cast<int>(parseDouble(argv[16], "RUNS")) : 1;
+    const int runs = argc >= 17 ? static_cast<int>(parseDouble(argv[16], "RUNS")) : 1;
     if (runs < 1 || runs > 100) {
         std::fprintf(stderr, "mapper_probe: RUNS must be 1..100\n");
         return 2;
     }
-    static vtm::hal::FileCamera camera;
+    static vtm::hal::FileCamera files;
     static vtm::hal::FileOdometry odometry;
     vtm::hal::FileCamera::Config cc;
     cc.manifest_path = argv[2];
-    vtm::Status st = camera.init(cc);
+    vtm::Status st = files.init(cc);
     if (!st.isOk()) {
         std::fprintf(stderr, "mapper_probe: %s: %s (%lld)\n", argv[2], st.reason(), static_cast<long long>(st.detail()));
         return 1;
     }
+    static ContentCamera camera(files, content);
     vtm::hal::FileOdometry::Config oc;
     oc.pose_log_path = argv[3];
     st = odometry.init(oc);
