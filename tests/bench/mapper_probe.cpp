@@ -83,7 +83,7 @@ private:
     template <typename T>
     void replace(const vtm::ImageView<T>& img) {
         vtm::hal::CameraDescription d;
-        if (!inner_.describe(d).isOk()) {
+        if (kind_ == "texture" || !inner_.describe(d).isOk()) {  // texture: the frames as they are
             return;
         }
         const int max = (1 << d.bit_depth) - 1;

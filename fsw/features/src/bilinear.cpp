@@ -53,9 +53,12 @@ void fillInside(const ImageView<const std::uint8_t>& img, double cx, double cy, 
             vx += 1.0;
             const auto x0 = static_cast<std::int32_t>(x);  // x >= 0: the floor
             const auto y0 = static_cast<std::int32_t>(y);
-            // roundToInt of a value in [0, kWeightOne]: v + 0.5 > 0, the truncation is the floor.
-            const auto wx = static_cast<std::int32_t>((x - static_cast<double>(x0)) * one + 0.5);
-            const auto wy = static_cast<std::int32_t>((y - static_cast<double>(y0)) * one + 0.5);
+            // roundToInt(v) = floor(v + 0.5) of a weight v in [0, kWeightOne]: v + 0.5 > 0,
+            // so the truncation is that floor (the same value, no std::lround).
+            const double ux = (x - static_cast<double>(x0)) * one + 0.5;
+            const double uy = (y - static_cast<double>(y0)) * one + 0.5;
+            const auto wx = static_cast<std::int32_t>(ux);
+            const auto wy = static_cast<std::int32_t>(uy);
             const std::uint8_t* r0 = base + static_cast<std::ptrdiff_t>(y0) * stride + x0;
             const std::uint8_t* r1 = r0 + stride;
             const std::int32_t top = r0[0] * (kWeightOne - wx) + r0[1] * wx;
