@@ -18,13 +18,18 @@ void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int
     const std::size_t rowBytes = static_cast<std::size_t>(p.bins) * static_cast<std::size_t>(p.width);
     std::memset(out, p.d2Cap, rowBytes);
     // reach[n]: the largest |k| with n^2 binWeight + k^2 F < d2Cap (-1: none), n = |i - b|
-    // <= binReach <= 15 (binWeight >= 1 and d2Cap <= 255: plan.cpp).
+    // <= binReach <= 15 (binWeight >= 1 and d2Cap <= 255: plan.cpp); so |k| <= 15 too.
+    // stamp[n][15 + k]: that D2 itself (below d2Cap, a byte), read instead of recomputed.
     std::int32_t reach[16];
+    std::uint8_t stamp[16][31];
     for (std::int32_t n = 0; n < 16; ++n) {
         reach[n] = -1;
         for (std::int32_t k = 0; n <= p.binReach && k <= p.radius && n * n * p.binWeight + k * k * p.d2Scale < p.d2Cap;
              ++k) {
             reach[n] = k;
+            const auto d2 = static_cast<std::uint8_t>(n * n * p.binWeight + k * k * p.d2Scale);
+            stamp[n][15 + k] = d2;
+            stamp[n][15 - k] = d2;
         }
     }
     for (std::int32_t u = 0; u < width; ++u) {
@@ -32,15 +37,15 @@ void distanceTransformRowX(const Plan& p, const std::uint8_t* rightRow, std::int
         const std::int32_t iLo = b - p.binReach < 0 ? 0 : b - p.binReach;
         const std::int32_t iHi = b + p.binReach >= p.bins ? p.bins - 1 : b + p.binReach;
         for (std::int32_t i = iLo; i <= iHi; ++i) {
-            const std::int32_t r = reach[i > b ? i - b : b - i];
+            const std::int32_t n = i > b ? i - b : b - i;
+            const std::int32_t r = reach[n];
             const std::int32_t kLo = u - r < 0 ? -u : -r;
             const std::int32_t kHi = u + r >= width ? width - 1 - u : r;
-            const std::int32_t di = (i - b) * (i - b) * p.binWeight;
+            const std::uint8_t* d2 = stamp[n] + 15;
             std::uint8_t* binRow = out + static_cast<std::ptrdiff_t>(i) * p.width + u;
             for (std::int32_t k = kLo; k <= kHi; ++k) {
-                const std::int32_t d2 = di + k * k * p.d2Scale;
-                if (d2 < binRow[k]) {
-                    binRow[k] = static_cast<std::uint8_t>(d2);
+                if (d2[k] < binRow[k]) {
+                    binRow[k] = d2[k];
                 }
             }
         }
