@@ -154,13 +154,27 @@ void removeLocalMean(const ImageView<const std::uint8_t>& in, std::int32_t windo
         }
         const std::uint8_t* src = in.row(y);
         std::uint8_t* dst = out.row(y);
-        for (std::int32_t x = 0; x < w; ++x) {
-            if (x > 0) {
-                sum += columns[clampCol(x + r)] - columns[clampCol(x - r - 1)];
-            }
+        const auto emit = [&](std::int32_t x) {
             const std::int32_t mean = (sum + area / 2) / area;
             const std::int32_t v = 128 + 2 * (static_cast<std::int32_t>(src[x]) - mean);
             dst[x] = static_cast<std::uint8_t>(v < 0 ? 0 : (v > 255 ? 255 : v));
+        };
+        // The columns x - r - 1 and x + r lie inside the image for x in [r + 1, w - r - 1):
+        // there the window slides without the border's clamps (the same sums).
+        const std::int32_t inner_lo = r + 1 < w ? r + 1 : w;
+        const std::int32_t inner_hi = w - r - 1 > inner_lo ? w - r - 1 : inner_lo;
+        emit(0);
+        for (std::int32_t x = 1; x < inner_lo; ++x) {
+            sum += columns[clampCol(x + r)] - columns[clampCol(x - r - 1)];
+            emit(x);
+        }
+        for (std::int32_t x = inner_lo; x < inner_hi; ++x) {
+            sum += columns[x + r] - columns[x - r - 1];
+            emit(x);
+        }
+        for (std::int32_t x = inner_hi; x < w; ++x) {
+            sum += columns[clampCol(x + r)] - columns[clampCol(x - r - 1)];
+            emit(x);
         }
     }
 }
