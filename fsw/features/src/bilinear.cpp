@@ -10,7 +10,14 @@
 namespace vtm::features::detail {
 namespace {
 
-std::int32_t roundToInt(double v) noexcept { return floorToInt(v + 0.5); }
+// The cell whose two rows start at r0 and r1 (its left column) blended with the quantised
+// weights wx, wy in 0..kWeightOne, in 1/kWeightOne grey levels, rounded.
+std::uint16_t blendQuantised(const std::uint8_t* r0, const std::uint8_t* r1, std::int32_t wx,
+                             std::int32_t wy) noexcept {
+    const std::int32_t top = r0[0] * (kWeightOne - wx) + r0[1] * wx;
+    const std::int32_t bottom = r1[0] * (kWeightOne - wx) + r1[1] * wx;
+    return static_cast<std::uint16_t>((top * (kWeightOne - wy) + bottom * wy + kWeightOne / 2) >> kWeightShift);
+}
 
 // The grid's point at offset (dx, dy), with the roundings sampleQuantisedGrid states.
 void gridPoint(double cx, double cy, const Affine2& m, double dx, double dy, double& x, double& y) noexcept {
@@ -60,10 +67,7 @@ void fillInside(const ImageView<const std::uint8_t>& img, double cx, double cy, 
             const auto wx = static_cast<std::int32_t>(ux);
             const auto wy = static_cast<std::int32_t>(uy);
             const std::uint8_t* r0 = base + static_cast<std::ptrdiff_t>(y0) * stride + x0;
-            const std::uint8_t* r1 = r0 + stride;
-            const std::int32_t top = r0[0] * (kWeightOne - wx) + r0[1] * wx;
-            const std::int32_t bottom = r1[0] * (kWeightOne - wx) + r1[1] * wx;
-            *dst++ = static_cast<std::uint16_t>((top * (kWeightOne - wy) + bottom * wy + kWeightOne / 2) >> kWeightShift);
+            *dst++ = blendQuantised(r0, r0 + stride, wx, wy);
         }
     }
 }
@@ -105,12 +109,7 @@ std::uint16_t sampleQuantised(const ImageView<const std::uint8_t>& img, double x
     const std::int32_t y0 = std::min(floorToInt(yc), img.height() - 2);
     const std::int32_t wx = roundToInt((xc - static_cast<double>(x0)) * static_cast<double>(kWeightOne));
     const std::int32_t wy = roundToInt((yc - static_cast<double>(y0)) * static_cast<double>(kWeightOne));
-    const std::uint8_t* r0 = img.row(y0) + x0;
-    const std::uint8_t* r1 = img.row(y0 + 1) + x0;
-    const std::int32_t top = r0[0] * (kWeightOne - wx) + r0[1] * wx;
-    const std::int32_t bottom = r1[0] * (kWeightOne - wx) + r1[1] * wx;
-    const std::int32_t v = (top * (kWeightOne - wy) + bottom * wy + kWeightOne / 2) >> kWeightShift;
-    return static_cast<std::uint16_t>(v);
+    return blendQuantised(img.row(y0) + x0, img.row(y0 + 1) + x0, wx, wy);
 }
 
 void sampleQuantisedGrid(const ImageView<const std::uint8_t>& img, double cx, double cy, const Affine2& m,
@@ -129,15 +128,8 @@ void sampleQuantisedGrid(const ImageView<const std::uint8_t>& img, double cx, do
 }
 
 double sampleLinear(const ImageView<const std::uint8_t>& img, double x, double y) noexcept {
-    const std::int32_t x0 = std::min(floorToInt(x), img.width() - 2);
-    const std::int32_t y0 = std::min(floorToInt(y), img.height() - 2);
-    const double fx = x - static_cast<double>(x0);
-    const double fy = y - static_cast<double>(y0);
-    const std::uint8_t* r0 = img.row(y0) + x0;
-    const std::uint8_t* r1 = img.row(y0 + 1) + x0;
-    const double top = static_cast<double>(r0[0]) + fx * (static_cast<double>(r0[1]) - static_cast<double>(r0[0]));
-    const double bottom = static_cast<double>(r1[0]) + fx * (static_cast<double>(r1[1]) - static_cast<double>(r1[0]));
-    return top + fy * (bottom - top);
+    const Cell cx = cellOf(x, img.width() - 2), cy = cellOf(y, img.height() - 2);
+    return between(lerpRow(img.row(cy.i), cx), lerpRow(img.row(cy.i + 1), cx), cy.f);
 }
 
 // x +- step use the centre's rows; y +- step the centre's columns, and the centre's row

@@ -15,4 +15,7 @@ namespace vtm::features::detail {
     return (static_cast<double>(t) > v) ? t - 1 : t;
 }
 
+// v rounded to the nearest integer, halves up: floor(v + 0.5) (the same range as floorToInt).
+[[nodiscard]] inline std::int32_t roundToInt(double v) noexcept { return floorToInt(v + 0.5); }
+
 }  // namespace vtm::features::detail

@@ -80,7 +80,7 @@ struct SearchResult {
     Affine2 warp{};  // the warp of the template that won at full resolution
 };
 
-std::int32_t roundToInt(double v) noexcept { return detail::floorToInt(v + 0.5); }
+using detail::roundToInt;
 
 // Pixel centre convention: level-l pixel i averages level-(l-1) pixels 2i, 2i+1.
 double toLevel(double x0, std::int32_t level) noexcept {
