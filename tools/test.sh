@@ -53,18 +53,29 @@ mkdir -p build
 # an earlier tree is read; a plain ctest run without the variable renders everything.
 export VTM_RENDER_CACHE="$here/build/render-cache"
 rm -rf "$VTM_RENDER_CACHE" && mkdir -p "$VTM_RENDER_CACHE"
-printf '# tools/test.sh report\n\n| step | result | seconds |\n|---|---|---|\n' > "$report"
+printf '# tools/test.sh report\n\n| step | result | seconds | CPU seconds |\n|---|---|---|---|\n' > "$report"
+
+children_cpu() {  # sets CPU: user + system seconds of the finished child processes so far
+  times > build/.times  # in this shell: inside $( ) `times` would see a subshell's children
+  CPU=$(tail -n 1 build/.times | awk '{ s = 0; for (i = 1; i <= 2; ++i) { split($i, a, /[ms]/); s += a[1] * 60 + a[2] }
+                                        printf "%d", s }')
+}
 
 step() {  # step NAME COMMAND...: runs, times, records. A step that is not a ctest run
           # (build, analysis, memcheck, budget) counts as one check in the summary.
+          # CPU seconds beside the wall seconds: on 2 cores a step whose CPU is well
+          # under twice its wall time left a core idle (docs/build.md "CI time").
   local name="$1"; shift
-  local t0=$SECONDS
+  local t0=$SECONDS c0
+  children_cpu; c0=$CPU
   echo "== $name"
   if "$@"; then
-    echo "| $name | ok | $((SECONDS - t0)) |" >> "$report"
+    children_cpu
+    echo "| $name | ok | $((SECONDS - t0)) | $((CPU - c0)) |" >> "$report"
     [ "$1" = ctest_counted ] || passed=$((passed + 1))
   else
-    echo "| $name | FAILED | $((SECONDS - t0)) |" >> "$report"
+    children_cpu
+    echo "| $name | FAILED | $((SECONDS - t0)) | $((CPU - c0)) |" >> "$report"
     failures="$failures $name"
     [ "$1" = ctest_counted ] || failed=$((failed + 1))
   fi
