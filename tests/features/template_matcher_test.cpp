@@ -86,7 +86,8 @@ TEST(TemplateMatcher, MatchesAShiftedImageWithinAFifthOfAPixel) {
     ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, scene->prediction(), *out, &stats).isOk());
     EXPECT_EQ(scope.heapCalls(), 0U);
     EXPECT_EQ(stats.attempted, fs->count);
-    EXPECT_EQ(stats.no_region + stats.low_score + stats.not_refined + stats.not_mutual + stats.matched, stats.attempted);
+    EXPECT_EQ(stats.no_region + stats.low_score + stats.unverified + stats.not_refined + stats.not_mutual + stats.matched,
+              stats.attempted);
     // Features whose true match keeps the template inside B must all match.
     double worst = 0.0, sum_sq = 0.0;
     for (std::int32_t i = 0; i < out->count; ++i) {
@@ -161,6 +162,61 @@ TEST(TemplateMatcher, LargeRegionIsSearchedWhole) {
     EXPECT_LT(worst, 0.2);
 }
 
+// max_verified bounds the affine refinements and backward searches of a call: only the
+// passing features with the best forward scores go on, and each of them ends as it does
+// without the bound (the same pixels, bit for bit); the rest are counted as unverified.
+TEST(TemplateMatcher, VerifiesOnlyTheBestForwardScoresUpToMaxVerified) {
+    const auto scene = std::make_unique<Scene>();
+    const auto fs = std::make_unique<FeatureSet>();
+    const auto all = std::make_unique<MatchSet>();
+    const auto capped = std::make_unique<MatchSet>();
+    Modules m(detectorConfig(), matcherConfig());
+    ASSERT_TRUE(m.detector.detect(scene->a.view(), *fs).isOk());
+    MatchStats sa;
+    ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, scene->prediction(), *all, &sa).isOk());
+    const std::int32_t passed = sa.attempted - sa.no_region - sa.low_score;
+    EXPECT_EQ(sa.unverified, 0);
+    ASSERT_GE(all->count, 30);
+    MatcherConfig mc = matcherConfig();
+    mc.max_verified = all->count / 2;
+    Modules mk(detectorConfig(), mc);
+    MatchStats sk;
+    vtm::test::NoHeapScope scope;
+    ASSERT_TRUE(mk.matcher.match(scene->a.view(), scene->b.view(), *fs, scene->prediction(), *capped, &sk).isOk());
+    EXPECT_EQ(scope.heapCalls(), 0U);
+    EXPECT_EQ(sk.attempted - sk.no_region - sk.low_score, passed);
+    EXPECT_EQ(sk.unverified, passed - mc.max_verified);
+    EXPECT_EQ(sk.not_refined + sk.not_mutual + sk.matched, mc.max_verified);  // the verification work
+    EXPECT_EQ(sk.no_region + sk.low_score + sk.unverified + sk.not_refined + sk.not_mutual + sk.matched, sk.attempted);
+    // Every capped match is the unbounded call's match of that feature, and no match the
+    // bound left out has a better forward score than one it kept.
+    std::vector<bool> kept(static_cast<std::size_t>(fs->count), false);
+    float worst_kept = 2.0f;
+    for (std::int32_t i = 0; i < capped->count; ++i) {
+        const Match& c = capped->items[i];
+        kept[static_cast<std::size_t>(c.feature_index)] = true;
+        worst_kept = std::min(worst_kept, c.score);
+        const Match* same = nullptr;
+        for (std::int32_t j = 0; j < all->count; ++j) {
+            if (all->items[j].feature_index == c.feature_index) {
+                same = &all->items[j];
+            }
+        }
+        ASSERT_NE(same, nullptr) << c.feature_index;
+        EXPECT_EQ(same->pixel_b, c.pixel_b);
+        EXPECT_EQ(same->score, c.score);
+    }
+    std::int32_t left_out = 0;
+    for (std::int32_t j = 0; j < all->count; ++j) {
+        if (!kept[static_cast<std::size_t>(all->items[j].feature_index)]) {
+            ++left_out;
+            EXPECT_LE(all->items[j].score, worst_kept) << all->items[j].feature_index;
+        }
+    }
+    EXPECT_EQ(left_out, all->count - capped->count);
+    EXPECT_LT(capped->count, all->count);
+}
+
 TEST(TemplateMatcher, DoesNotMatchOutsideThePredictedRegion) {
     const auto scene = std::make_unique<Scene>();
     Modules m(detectorConfig(), matcherConfig());
@@ -174,7 +230,7 @@ TEST(TemplateMatcher, DoesNotMatchOutsideThePredictedRegion) {
     MatchStats stats;
     ASSERT_TRUE(m.matcher.match(scene->a.view(), scene->b.view(), *fs, p, *out, &stats).isOk());
     EXPECT_EQ(out->count, 0);
-    EXPECT_EQ(stats.no_region + stats.low_score + stats.not_refined + stats.not_mutual, stats.attempted);
+    EXPECT_EQ(stats.no_region + stats.low_score + stats.unverified + stats.not_refined + stats.not_mutual, stats.attempted);
     // A region entirely outside B (a 1000 px sideways move at 5..40 m): no region at all.
     p = scene->prediction();
     p.pair.b_from_a.t_m = Vec3(1000.0, 0.0, 0.0);
@@ -273,6 +329,11 @@ TEST(TemplateMatcher, BadInputsGiveTheDocumentedStatus) {
     c = MatcherConfig{};
     c.pyramid_levels = 5;
     EXPECT_NE(std::strstr(c.validate().reason(), "pyramid_levels"), nullptr);
+    for (const std::int32_t bad : {0, kMaxFeatures + 1}) {
+        c = MatcherConfig{};
+        c.max_verified = bad;
+        EXPECT_NE(std::strstr(c.validate().reason(), "max_verified"), nullptr) << bad;
+    }
     std::byte tiny_pool[32];
     Arena tiny(tiny_pool, sizeof tiny_pool);
     TemplateMatcher m3;

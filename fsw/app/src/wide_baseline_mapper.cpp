@@ -80,6 +80,12 @@ stereo::PyramidConfig wideBaselineStereoConfig() noexcept {
     return s;
 }
 
+refine::Config wideBaselineRefineConfig() noexcept {
+    refine::Config r;
+    r.matcher.max_verified = kWideBaselineMaxVerified;
+    return r;
+}
+
 Status WideBaselineMapperConfig::validate() const noexcept {
     if (frame_width < 16 || frame_width > rectify::kMaxImageSide || frame_height < 16 ||
         frame_height > rectify::kMaxImageSide) {

@@ -14,6 +14,17 @@
 #include "vtm/core/math.hpp"
 
 namespace vtm::features {
+namespace detail {
+// A feature's forward search as the verification step needs it (TemplateMatcher::forward_).
+struct ForwardMatch {
+    Vec2 pixel = Vec2::Zero();  // in B, subpixel
+    double score = -1.0;
+    Affine2 warp{};             // the winning template's warp
+    bool passed = false;        // found, with score >= min_score
+    bool verify = false;        // passed, and among the max_verified best scores
+};
+}  // namespace detail
+
 namespace {
 
 using detail::kMaxCapacityPx;
@@ -692,6 +703,9 @@ Status MatcherConfig::validate() const noexcept {
     if (!(mutual_tolerance_px > 0.f && mutual_tolerance_px < 1.0e6f)) {
         return Status(StatusCode::kInvalidConfig, "MatcherConfig.mutual_tolerance_px: must be > 0 and finite");
     }
+    if (max_verified < 1 || max_verified > kMaxFeatures) {
+        return Status(StatusCode::kInvalidConfig, "MatcherConfig.max_verified: must be 1..kMaxFeatures", max_verified);
+    }
     if (refine_affine) {
         VTM_RETURN_IF_ERROR(affine.validate());
     }
@@ -728,10 +742,12 @@ std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcep
     }
     const std::size_t bytes = pyramidBytes(config);
     // Pyramid levels 1..L of A, then of B (one block each; an empty block still pads),
-    // then the template bank, the polyline scan and the coarse search's column sums.
+    // then the template bank, the polyline scan, the coarse search's column sums and the
+    // forward results.
     return 2U * Arena::blockBytes(bytes == 0U ? 1U : bytes) +
            Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t)) + Arena::constructBytes<detail::PolylineScan>(1U) +
-           2U * Arena::blockBytes(columnSumBytes(config));
+           2U * Arena::blockBytes(columnSumBytes(config)) +
+           Arena::constructBytes<detail::ForwardMatch>(static_cast<std::size_t>(kMaxFeatures));
 }
 
 Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept {
@@ -745,8 +761,9 @@ Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept
     scan_ = arena.construct<detail::PolylineScan>(1U);
     columnSum_ = arena.allocateArray<std::uint32_t>(static_cast<std::size_t>(config.max_width));
     columnSumSq_ = arena.allocateArray<std::uint32_t>(static_cast<std::size_t>(config.max_width));
+    forward_ = arena.construct<detail::ForwardMatch>(static_cast<std::size_t>(kMaxFeatures));
     if (storageA_.empty() || storageB_.empty() || bank_.empty() || scan_ == nullptr || columnSum_.empty() ||
-        columnSumSq_.empty()) {
+        columnSumSq_.empty() || forward_ == nullptr) {
         return Status(StatusCode::kOutOfMemory, "TemplateMatcher::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
@@ -831,7 +848,7 @@ Status checkPrediction(const ImageView<const std::uint8_t>& image_a, const Image
 // validated, both pixels are finite); one would leave the match out, never pass it on
 // unrefined.
 bool refinedAffine(const AffineRefineConfig& config, const ImageView<const std::uint8_t>& image_a,
-                   const ImageView<const std::uint8_t>& image_b, const Vec2& pixel_a, const SearchResult& fwd,
+                   const ImageView<const std::uint8_t>& image_b, const Vec2& pixel_a, const detail::ForwardMatch& fwd,
                    Vec2& pixel_b) noexcept {
     Mat2 warp;
     warp << fwd.warp.a, fwd.warp.b, fwd.warp.c, fwd.warp.d;
@@ -842,6 +859,96 @@ bool refinedAffine(const AffineRefineConfig& config, const ImageView<const std::
     }
     pixel_b = am.pixel_b;
     return true;
+}
+
+// Marks for verification the passing forward matches of features 0..n-1 with the
+// max_verified best scores (the lower index first among equal scores: a strict order, so
+// exactly min(passed, max_verified) are marked). At most n^2 comparisons, only when more
+// than max_verified passed. Returns how many passed and were not marked.
+std::int32_t markVerified(detail::ForwardMatch* f, std::int32_t n, std::int32_t max_verified) noexcept {
+    std::int32_t passed = 0;
+    for (std::int32_t i = 0; i < n; ++i) {
+        f[i].verify = f[i].passed;
+        passed += f[i].passed ? 1 : 0;
+    }
+    if (passed <= max_verified) {
+        return 0;
+    }
+    for (std::int32_t i = 0; i < n; ++i) {
+        if (!f[i].passed) {
+            continue;
+        }
+        std::int32_t better = 0;  // passing features ordered before i
+        for (std::int32_t j = 0; j < n; ++j) {
+            const bool before = j < i ? f[j].score >= f[i].score : f[j].score > f[i].score;
+            better += (f[j].passed && before) ? 1 : 0;
+        }
+        f[i].verify = better < max_verified;
+    }
+    return passed - max_verified;
+}
+
+// One call's searches: both pyramids, both directions' geometry, the scratch.
+struct CallContext {
+    const TemplateMatcher::Pyramid* pa;
+    const TemplateMatcher::Pyramid* pb;
+    const Geometry* forward;
+    const Geometry* backward;
+    TemplateBank* bank;
+    const MatcherConfig* config;
+};
+
+// Steps 1-4 of every feature into f (passed: found, with a score of at least min_score).
+void searchForward(const CallContext& c, const FeatureSet& features_a, detail::ForwardMatch* f,
+                   MatchStats& st) noexcept {
+    for (std::int32_t i = 0; i < features_a.count; ++i) {
+        ++st.attempted;
+        const SearchResult fwd = search(*c.pa, *c.pb, *c.forward, features_a.items[i].pixel, *c.bank);
+        f[i].passed = false;
+        if (fwd.outcome == Outcome::kNoRegion) {
+            ++st.no_region;
+            continue;
+        }
+        if (fwd.outcome != Outcome::kFound || fwd.score < static_cast<double>(c.config->min_score)) {
+            ++st.low_score;
+            continue;
+        }
+        f[i].passed = true;
+        f[i].pixel = fwd.pixel;
+        f[i].score = fwd.score;
+        f[i].warp = fwd.warp;
+    }
+}
+
+// Steps 5 and 6 of the features marked for verification, in feature order, into out.
+void verifyMarked(const CallContext& c, const FeatureSet& features_a, const detail::ForwardMatch* f, MatchSet& out,
+                  MatchStats& st) noexcept {
+    const ImageView<const std::uint8_t>& image_a = c.pa->level[0];
+    const ImageView<const std::uint8_t>& image_b = c.pb->level[0];
+    const auto tolerance = static_cast<double>(c.config->mutual_tolerance_px);
+    for (std::int32_t i = 0; i < features_a.count; ++i) {
+        if (!f[i].verify) {
+            continue;
+        }
+        const Vec2& pixel_a = features_a.items[i].pixel;
+        Vec2 pixel_b = f[i].pixel;
+        if (c.config->refine_affine && !refinedAffine(c.config->affine, image_a, image_b, pixel_a, f[i], pixel_b)) {
+            ++st.not_refined;
+            continue;
+        }
+        const SearchResult back = search(*c.pb, *c.pa, *c.backward, pixel_b, *c.bank);
+        if (back.outcome != Outcome::kFound || (back.pixel - pixel_a).norm() > tolerance) {
+            ++st.not_mutual;
+            continue;
+        }
+        Match& m = out.items[out.count];
+        m.pixel_a = pixel_a;
+        m.pixel_b = pixel_b;
+        m.score = static_cast<float>(f[i].score);
+        m.feature_index = i;
+        ++out.count;
+        ++st.matched;
+    }
 }
 
 // The A -> B search of a (validated) prediction, the terrain normal normalised.
@@ -897,9 +1004,7 @@ Status TemplateMatcher::matchPrepared(const FeatureSet& features_a, const MatchP
     }
     const Pyramid& pa = pyramidA_;
     const Pyramid& pb = pyramidB_;
-    const ImageView<const std::uint8_t>& image_a = pa.level[0];
-    const ImageView<const std::uint8_t>& image_b = pb.level[0];
-    VTM_RETURN_IF_ERROR(checkPrediction(image_a, image_b, features_a, prediction));
+    VTM_RETURN_IF_ERROR(checkPrediction(pa.level[0], pb.level[0], features_a, prediction));
     const Geometry forward = forwardGeometry(prediction);
     Geometry backward = inverseOf(forward);
     setAxis(backward);
@@ -910,37 +1015,11 @@ Status TemplateMatcher::matchPrepared(const FeatureSet& features_a, const MatchP
     bank.column_sum = columnSum_.data();
     bank.column_sum_sq = columnSumSq_.data();
     bank.stride = static_cast<std::size_t>(config_.template_window) * static_cast<std::size_t>(config_.template_window);
-    const auto tolerance = static_cast<double>(config_.mutual_tolerance_px);
-    for (std::int32_t i = 0; i < features_a.count; ++i) {
-        const Vec2& pixel_a = features_a.items[i].pixel;
-        ++st.attempted;
-        const SearchResult fwd = search(pa, pb, forward, pixel_a, bank);
-        if (fwd.outcome == Outcome::kNoRegion) {
-            ++st.no_region;
-            continue;
-        }
-        if (fwd.outcome != Outcome::kFound || fwd.score < static_cast<double>(config_.min_score)) {
-            ++st.low_score;
-            continue;
-        }
-        Vec2 pixel_b = fwd.pixel;
-        if (config_.refine_affine && !refinedAffine(config_.affine, image_a, image_b, pixel_a, fwd, pixel_b)) {
-            ++st.not_refined;
-            continue;
-        }
-        const SearchResult back = search(pb, pa, backward, pixel_b, bank);
-        if (back.outcome != Outcome::kFound || (back.pixel - pixel_a).norm() > tolerance) {
-            ++st.not_mutual;
-            continue;
-        }
-        Match& m = out.items[out.count];
-        m.pixel_a = pixel_a;
-        m.pixel_b = pixel_b;
-        m.score = static_cast<float>(fwd.score);
-        m.feature_index = i;
-        ++out.count;
-        ++st.matched;
-    }
+    // Forward searches of every feature, then the verification of the best of them.
+    const CallContext c{&pa, &pb, &forward, &backward, &bank, &config_};
+    searchForward(c, features_a, forward_, st);
+    st.unverified = markVerified(forward_, features_a.count, config_.max_verified);
+    verifyMarked(c, features_a, forward_, out, st);
     if (stats != nullptr) {
         *stats = st;
     }

@@ -30,6 +30,8 @@
 //     gain/offset on a kAffineWindow window, started from the winning warp
 //     (affine_refine.hpp); a fit that fails, moves more than affine.max_shift_px or ends
 //     below affine.min_score drops the match.
+//     Steps 5 and 6 run for at most max_verified features of a call, the best forward
+//     scores (a bound on the work for any content).
 //  6. Mutual check: B's point is searched back in A by the same steps with the inverse
 //     pose, B's ray (ranges widened by the baseline) and the normal rotated into B; the
 //     result must lie within mutual_tolerance_px of the feature.
@@ -93,6 +95,13 @@ struct MatcherConfig {
     // drops the match (not_refined).
     bool refine_affine = true;
     AffineRefineConfig affine{};
+    // Steps 5 and 6 (the affine refinement and the backward search) for at most this many
+    // features of one call: those whose forward search scored highest (the lower feature
+    // index first among equal scores); the other passing features end as `unverified`.
+    // Bounds the verification work per call for any image content (issue 22 item 5: an
+    // image where every forward search passes min_score costs twice the searches of one
+    // where a fifth do). 1..kMaxFeatures; kMaxFeatures: every passing feature is verified.
+    std::int32_t max_verified = kMaxFeatures;
     // This configuration with another capacity (what a module that states the capacity once
     // for several sub-modules hands down).
     [[nodiscard]] MatcherConfig withCapacity(std::int32_t width, std::int32_t height) const noexcept {
@@ -104,14 +113,16 @@ struct MatcherConfig {
     [[nodiscard]] Status validate() const noexcept;
 };
 
-// Every attempted feature ends in exactly one of no_region, low_score, not_refined,
-// not_mutual, matched.
+// Every attempted feature ends in exactly one of no_region, low_score, unverified,
+// not_refined, not_mutual, matched.
 struct MatchStats {
     std::int32_t attempted = 0, no_region = 0, low_score = 0, not_refined = 0, not_mutual = 0, matched = 0;
+    std::int32_t unverified = 0;  // passed min_score but not among the max_verified best
 };
 
 namespace detail {
 class PolylineScan;
+struct ForwardMatch;
 }  // namespace detail
 
 class TemplateMatcher {
@@ -169,6 +180,9 @@ private:
     detail::PolylineScan* scan_ = nullptr;
     Span<std::uint32_t> columnSum_{};    // the coarse search's column sums (see the .cpp)
     Span<std::uint32_t> columnSumSq_{};
+    // The forward search's result of every feature of a call (kMaxFeatures, arena), kept
+    // until the verification step has chosen the max_verified best.
+    detail::ForwardMatch* forward_ = nullptr;
 };
 
 }  // namespace vtm::features
