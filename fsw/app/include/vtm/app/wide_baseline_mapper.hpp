@@ -74,7 +74,8 @@ namespace vtm::app {
 // refine stage's work then stays within 1.1x of the shipped scene's for any image content
 // (issue 22 item 5; an image where every forward search passes costs 1.38x without it).
 // The shipped scene passes 89 forward searches at 1024^2 (every one verified); of the 20
-// worlds of docs/app.md, four pass more (101-192): docs/app.md "Cost" has their maps.
+// worlds of docs/app.md, four pass more (101-192): docs/app.md "Cost of the refine stage by
+// content" has their maps.
 constexpr std::int32_t kWideBaselineMaxVerified = 96;
 [[nodiscard]] refine::Config wideBaselineRefineConfig() noexcept;
 
