@@ -1,6 +1,7 @@
 // vtm-sim render (render_command.hpp). Ground side: heap, std::string and stdio are fine
 // here; the world itself (sim/) is built into one byte buffer given to an Arena.
 #include "render_command.hpp"
+#include "vtm/ground/number_text.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -38,12 +39,6 @@ struct Error {
     std::string message;
     int exit_code = tools::kExitInputError;
 };
-
-std::string number(double v) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-    return buffer;
-}
 
 double secondsSince(SteadyClock::time_point start) {
     return std::chrono::duration<double>(SteadyClock::now() - start).count();
@@ -86,14 +81,14 @@ std::string modelLine(const CameraModel& m) {
     std::string line = "model ";
     if (m.kind == CameraModelKind::kPinholeBrown) {
         line += "pinhole";
-        for (const double v : {m.fx_px, m.fy_px, m.cx_px, m.cy_px, m.k1, m.k2, m.k3, m.p1, m.p2}) line += " " + number(v);
+        for (const double v : {m.fx_px, m.fy_px, m.cx_px, m.cy_px, m.k1, m.k2, m.k3, m.p1, m.p2}) line += " " + ground::exactNumber(v);
         return line;
     }
     line += (m.kind == CameraModelKind::kCahv) ? "cahv" : "cahvor";
     const double* vectors[] = {m.c, m.a, m.h, m.v, m.o, m.r};
     const int n = (m.kind == CameraModelKind::kCahv) ? 4 : 6;
     for (int i = 0; i < n; ++i) {
-        for (int j = 0; j < 3; ++j) line += " " + number(vectors[i][j]);
+        for (int j = 0; j < 3; ++j) line += " " + ground::exactNumber(vectors[i][j]);
     }
     return line;
 }
@@ -231,18 +226,18 @@ std::string orbitalGeoText(const sim::Scenario& s, const sim::OrbitalParams& p, 
          "north-west pixel:\n# north_m = north0_m - row * cell_m, east_m = east0_m + col * cell_m (site frame, "
          "x north, y east, z down)\n";
     t += "image " + image + "\n";
-    t += "north0_m " + number(geo.north0_m) + "\neast0_m " + number(geo.east0_m) + "\ncell_m " + number(geo.cell_m) +
+    t += "north0_m " + ground::exactNumber(geo.north0_m) + "\neast0_m " + ground::exactNumber(geo.east0_m) + "\ncell_m " + ground::exactNumber(geo.cell_m) +
          "\n";
     t += "width_px " + std::to_string(geo.width_px) + "\nheight_px " + std::to_string(geo.height_px) + "\n";
     t += "axes col_east row_south\n";
     t += "modality " + std::string(modalityName(p.modality)) + "\n";
     t += "bit_depth " + std::to_string(p.bit_depth) + "\n";
-    t += "sun_azimuth_deg " + number(s.orbital.sun_azimuth_deg) + "\nsun_elevation_deg " +
-         number(s.orbital.sun_elevation_deg) + "\n";
-    t += "to_sun_site " + number(p.to_sun_site.x()) + " " + number(p.to_sun_site.y()) + " " +
-         number(p.to_sun_site.z()) + "\n";
+    t += "sun_azimuth_deg " + ground::exactNumber(s.orbital.sun_azimuth_deg) + "\nsun_elevation_deg " +
+         ground::exactNumber(s.orbital.sun_elevation_deg) + "\n";
+    t += "to_sun_site " + ground::exactNumber(p.to_sun_site.x()) + " " + ground::exactNumber(p.to_sun_site.y()) + " " +
+         ground::exactNumber(p.to_sun_site.z()) + "\n";
     if (p.modality == sim::OrbitalModality::kThermal) {
-        t += "thermal_scale_k " + number(p.thermal.scale_min_k) + " " + number(p.thermal.scale_max_k) + "\n";
+        t += "thermal_scale_k " + ground::exactNumber(p.thermal.scale_min_k) + " " + ground::exactNumber(p.thermal.scale_max_k) + "\n";
     }
     return t;
 }

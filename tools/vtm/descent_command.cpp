@@ -1,4 +1,5 @@
 #include "descent_command.hpp"
+#include "command_support.hpp"
 #include "option_pair.hpp"
 
 #include <algorithm>
@@ -24,23 +25,18 @@ namespace {
 using ground::FloatImage;
 using ground::Grey16Image;
 
-int fail(int code, const std::string& message) {
-    std::fprintf(stderr, "vtm descent: %s\n", message.c_str());
-    return code;
-}
-
 RigidPose toPose(const ground::SimCameraPose& p) {
     return ground::siteFromCam(p);
 }
 
-struct Inputs {
+struct DescentInputs {
     Grey16Image image1;
     Grey16Image image2;
     descent::PairGeometry geometry;
     descent::Config config;
 };
 
-std::string loadInputs(const DescentOptions& o, Inputs& in) {
+std::string loadInputs(const DescentOptions& o, DescentInputs& in) {
     auto i1 = ground::loadGrey16(o.image1);
     if (!i1.ok) return i1.error;
     auto i2 = ground::loadGrey16(o.image2);
@@ -62,7 +58,7 @@ std::string loadInputs(const DescentOptions& o, Inputs& in) {
 }
 
 // The sweep's configuration from the options; "" or the error.
-std::string makeConfig(const DescentOptions& o, Inputs& in) {
+std::string makeConfig(const DescentOptions& o, DescentInputs& in) {
     descent::Config& c = in.config;
     c.max_width = in.image1.width;
     c.max_height = in.image1.height;
@@ -97,7 +93,7 @@ std::string makeConfig(const DescentOptions& o, Inputs& in) {
 // The grid covering every valid point (terrain::HeightMap's convention: origin at the
 // north-west corner, a cell holds its south and west edges), cell = --cell or one image-1
 // pixel on the ground.
-std::string planGrid(const DescentOptions& o, const Inputs& in, const FloatImage& depth, terrain::GridConfig& g) {
+std::string planGrid(const DescentOptions& o, const DescentInputs& in, const FloatImage& depth, terrain::GridConfig& g) {
     const CameraModel& cam = in.geometry.camera;
     const RigidPose& pose = in.geometry.site_from_cam1;
     double nMin = 1e300, nMax = -1e300, eMin = 1e300, eMax = -1e300, dSum = 0.0;
@@ -170,37 +166,37 @@ CLI::App* addDescentCommand(CLI::App& app, DescentOptions& o) {
 }
 
 int runDescent(const DescentOptions& o) {
-    Inputs in;
+    DescentInputs in;
     std::string error = loadInputs(o, in);
     error = error.empty() ? makeConfig(o, in) : error;
-    if (!error.empty()) return fail(kExitInputError, error);
+    if (!error.empty()) return failCommand("descent", kExitInputError, error);
     std::vector<std::byte> pool(descent::PlaneSweep::workspaceBytes(in.config));
     Arena arena(pool.data(), pool.size());
     descent::PlaneSweep sweep;
     const Status init = sweep.init(in.config, arena);
-    if (!init.isOk()) return fail(kExitInputError, std::string("PlaneSweep::init: ") + init.reason());
+    if (!init.isOk()) return failCommand("descent", kExitInputError, std::string("PlaneSweep::init: ") + init.reason());
     FloatImage depth(in.image1.width, in.image1.height);
     descent::SweepStats stats;
     const Status s = sweep.compute(in.image1.view(), in.image2.view(), in.geometry,
                                    descent::SweepOutput{depth.view(), {}, {}}, &stats);
     if (!s.isOk()) {
-        return fail(kExitInputError, std::string(s.reason()) + " (" + o.image1 + ", " + o.image2 + ", " + o.camera +
+        return failCommand("descent", kExitInputError, std::string(s.reason()) + " (" + o.image1 + ", " + o.image2 + ", " + o.camera +
                                          "; detail " + std::to_string(s.detail()) + ")");
     }
     terrain::HeightMapConfig mc;
     mc.reducer = terrain::Reducer::kMean;
     error = planGrid(o, in, depth, mc.grid);
-    if (!error.empty()) return fail(kExitInputError, error);
+    if (!error.empty()) return failCommand("descent", kExitInputError, error);
     std::vector<std::byte> map_pool(terrain::HeightMap::workspaceBytes(mc));
     Arena map_arena(map_pool.data(), map_pool.size());
     terrain::HeightMap map;
     Status e = map.init(mc, map_arena);
     if (e.isOk()) e = descent::addDepthToHeightMap(depth.view(), in.geometry.camera, in.geometry.site_from_cam1, map);
-    if (!e.isOk()) return fail(kExitInputError, std::string("elevation grid: ") + e.reason());
+    if (!e.isOk()) return failCommand("descent", kExitInputError, std::string("elevation grid: ") + e.reason());
     const FloatImage elevation = ground::elevationImage(map);
     const terrain::GridConfig& g = map.grid();
     error = writeOutputs(o, depth, elevation);
-    if (!error.empty()) return fail(kExitInputError, error);
+    if (!error.empty()) return failCommand("descent", kExitInputError, error);
     const double px = static_cast<double>(depth.pixels.size());
     std::printf("vtm descent: %s + %s, %dx%d, %d planes %.1f..%.1f m, scale %.3f\n", o.image1.c_str(),
                 o.image2.c_str(), depth.width, depth.height, in.config.planes, in.config.depth_min_m,

@@ -1,4 +1,5 @@
 #include "eval_command.hpp"
+#include "command_support.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -14,11 +15,6 @@ namespace {
 
 using ground::FloatImage;
 using ground::GreyImage;
-
-int fail(int code, const std::string& message) {
-    std::fprintf(stderr, "vtm eval: %s\n", message.c_str());
-    return code;
-}
 
 // What is evaluated against: ground truth in pixels, an optional mask and their names.
 struct Reference {
@@ -112,30 +108,30 @@ CLI::App* addEvalCommand(CLI::App& app, EvalOptions& o) {
 
 int runEval(const EvalOptions& o) {
     if (o.ground_truth.empty() == o.middlebury.empty()) {
-        return fail(kExitUsageError, "give either GT or --middlebury SET (not both, not neither)");
+        return failCommand("eval", kExitUsageError, "give either GT or --middlebury SET (not both, not neither)");
     }
     if (o.scaleGiven() && !(o.scale > 0.0 && std::isfinite(o.scale))) {
-        return fail(kExitUsageError, "--scale " + std::to_string(o.scale) + ": must be a positive number");
+        return failCommand("eval", kExitUsageError, "--scale " + std::to_string(o.scale) + ": must be a positive number");
     }
     if (needsScale(o)) {
-        return fail(kExitUsageError, o.ground_truth +
+        return failCommand("eval", kExitUsageError, o.ground_truth +
                                          ": integer ground truth needs --scale (grey levels per pixel "
                                          "of disparity, e.g. 4 for teddy, 16 for tsukuba)");
     }
     ground::Result<FloatImage> estimate = ground::readPfm(o.disparity_pfm);
     if (!estimate.ok) {
-        return fail(kExitInputError, estimate.error);
+        return failCommand("eval", kExitInputError, estimate.error);
     }
     Reference ref;
     std::string error = o.middlebury.empty() ? fromFiles(o, ref) : fromMiddlebury(o, ref);
     error = (error.empty() && !o.mask.empty()) ? loadMask(o.mask, ref) : error;
     if (!error.empty()) {
-        return fail(kExitInputError, error);
+        return failCommand("eval", kExitInputError, error);
     }
     ground::Result<ground::DisparityErrors> e =
         ground::evaluateDisparity(estimate.value, ref.gt_px, ref.mask.empty() ? nullptr : &ref.mask);
     if (!e.ok) {
-        return fail(kExitInputError, o.disparity_pfm + ": " + e.error);
+        return failCommand("eval", kExitInputError, o.disparity_pfm + ": " + e.error);
     }
     printErrors(o, ref, e.value);
     return kExitOk;

@@ -1,5 +1,6 @@
 // Measures of the traverse-and-descent fusion against the truth (fusion_measures.hpp).
 #include "fusion_measures.hpp"
+#include "command_support.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +17,8 @@ namespace vtm::traverse {
 const char* const kBandNames[kBands] = {"0-5 m", "5-10 m", "10-20 m", ">= 20 m"};
 
 namespace {
-constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
+
+using tools::kDegPerRad;
 
 // printf into a std::string (the report's and the test's tables).
 template <typename... Args>

@@ -1,4 +1,5 @@
 #include "integrate_command.hpp"
+#include "command_support.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,16 +22,10 @@
 namespace vtm::tools {
 namespace {
 
-constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
 constexpr double kMarginM = 4.0;            // room around the inputs for the navigation's drift
 constexpr double kRegistrationCellM = 0.2;  // the registration grid: the finest level with cells >= this
 
-int fail(int code, const std::string& message) {
-    std::fprintf(stderr, "vtm integrate: %s\n", message.c_str());
-    return code;
-}
-
-std::string number(double v) {
+std::string shortText(double v) {
     char b[32];
     std::snprintf(b, sizeof b, "%g", v);
     return b;
@@ -83,7 +78,7 @@ std::string planConfig(const std::vector<IntegrateInput>& inputs, const std::vec
     int depth = std::max(k.back(), 0);
     while (std::ldexp(finest, depth) < span && depth <= octree::kMaxProductLevel) ++depth;
     if (depth > octree::kMaxProductLevel || !std::isfinite(span)) {
-        return "the inputs span " + number(span) + " m: more than 4096 cells of " + number(finest) +
+        return "the inputs span " + shortText(span) + " m: more than 4096 cells of " + shortText(finest) +
                " m; use a coarser --cells";
     }
     c.octree.side_m = std::ldexp(finest, depth);
@@ -136,11 +131,11 @@ std::string writeOutputs(const IntegrateOptions& o, const std::vector<double>& c
     geo.source = "vtm integrate";
     for (std::int32_t p = 0; p < products.count(); ++p) {
         const double cell = cells[cells.size() - 1U - static_cast<std::size_t>(p)];
-        const std::string path = o.out_dir + "/height_" + number(cell) + "m.tif";
+        const std::string path = o.out_dir + "/height_" + shortText(cell) + "m.tif";
         const terrain::HeightMap& map = products.map(p);
         const ground::Outcome w = ground::writeHeightMapGeoTiff(path, map, geo, ground::HeightMapBands{true, true});
         if (!w.ok) return w.error;
-        text += "product " + number(cell) + " m: " + std::to_string(map.grid().cols) + "x" +
+        text += "product " + shortText(cell) + " m: " + std::to_string(map.grid().cols) + "x" +
                 std::to_string(map.grid().rows) + " cells, " + std::to_string(map.filledCells()) + " with data -> " +
                 path + "\n";
     }
@@ -179,27 +174,27 @@ int runIntegrate(const IntegrateOptions& o) {
     if (bad.empty()) bad = cli::parseOptionPair("--site", o.site, cli::PairRule::kAny, "in degrees", "-4.5:137.4", lat, lon);
     if (bad.empty() && o.reducer != "highest" && o.reducer != "mean") bad = "--reducer '" + o.reducer + "': highest or mean";
     if (bad.empty() && o.inputs.size() > static_cast<std::size_t>(octree::kMaxSources)) bad = "at most 16 inputs";
-    if (!bad.empty()) return fail(kExitUsageError, bad);
+    if (!bad.empty()) return failCommand("integrate", kExitUsageError, bad);
     std::vector<IntegrateInput> inputs;
     for (std::size_t i = 0; i < o.inputs.size(); ++i) {
         ground::Result<IntegrateInput> in = loadIntegrateInput(o.inputs[i], static_cast<int>(i));
-        if (!in.ok) return fail(kExitInputError, in.error);
+        if (!in.ok) return failCommand("integrate", kExitInputError, in.error);
         inputs.push_back(std::move(in.value));
     }
     app::IntegratorConfig config;
     config.products.reducer = o.reducer == "mean" ? terrain::Reducer::kMean : terrain::Reducer::kHighest;
     bad = planConfig(inputs, cells, k, config);
-    if (!bad.empty()) return fail(kExitInputError, bad);
+    if (!bad.empty()) return failCommand("integrate", kExitInputError, bad);
     std::vector<std::byte> pool(app::TerrainIntegrator::workspaceBytes(config));
     Arena arena(pool.data(), pool.size());
     hal::ManualClock clock;
     hal::EventLog events;
     auto integrator = std::make_unique<app::TerrainIntegrator>();
     const Status init = integrator->init(config, arena, clock, events);
-    if (!init.isOk()) return fail(kExitInputError, std::string("TerrainIntegrator::init: ") + init.reason());
+    if (!init.isOk()) return failCommand("integrate", kExitInputError, std::string("TerrainIntegrator::init: ") + init.reason());
     std::string text = "# vtm integrate: " + std::to_string(inputs.size()) + " models, cube " +
-                       number(config.octree.side_m) + " m, registration cell " +
-                       number(std::ldexp(config.octree.side_m, -config.registration_level)) + " m\n";
+                       shortText(config.octree.side_m) + " m, registration cell " +
+                       shortText(std::ldexp(config.octree.side_m, -config.registration_level)) + " m\n";
     std::vector<ground::SimCameraPose> poses;
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         const IntegrateInput& in = inputs[i];
@@ -212,7 +207,7 @@ int runIntegrate(const IntegrateOptions& o) {
         app::AddResult r;
         const Status st = integrator->addModel(m, r);
         if (!st.isOk()) {
-            return fail(kExitInputError, in.spec + ": not integrated: " + st.reason() + " (" +
+            return failCommand("integrate", kExitInputError, in.spec + ": not integrated: " + st.reason() + " (" +
                                              std::to_string(st.detail()) + ")");
         }
         text += reportLine(i, in, r, i == 0U);
@@ -223,16 +218,16 @@ int runIntegrate(const IntegrateOptions& o) {
         poses.push_back(pose);
     }
     const Status ex = integrator->extractProducts();
-    if (!ex.isOk()) return fail(kExitInputError, std::string("products: ") + ex.reason());
+    if (!ex.isOk()) return failCommand("integrate", kExitInputError, std::string("products: ") + ex.reason());
     std::error_code ec;
     std::filesystem::create_directories(o.out_dir, ec);
-    if (ec) return fail(kExitInputError, o.out_dir + ": cannot create (" + ec.message() + ")");
+    if (ec) return failCommand("integrate", kExitInputError, o.out_dir + ": cannot create (" + ec.message() + ")");
     bad = writeOutputs(o, cells, *integrator->products(), poses, text);
-    if (!bad.empty()) return fail(kExitInputError, bad);
+    if (!bad.empty()) return failCommand("integrate", kExitInputError, bad);
     std::fputs(text.c_str(), stdout);
     std::FILE* f = std::fopen((o.out_dir + "/report.txt").c_str(), "w");
     if (f == nullptr || std::fputs(text.c_str(), f) < 0 || std::fclose(f) != 0) {
-        return fail(kExitInputError, o.out_dir + "/report.txt: cannot write");
+        return failCommand("integrate", kExitInputError, o.out_dir + "/report.txt: cannot write");
     }
     return kExitOk;
 }

@@ -1,5 +1,6 @@
 // vtm panorama (panorama_command.hpp, docs/panorama-cli.md).
 #include "panorama_command.hpp"
+#include "command_support.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -34,19 +35,14 @@ using ground::GreyImage;
 static_assert(ground::kMaxPanoramaFileStations == bundle::kMaxStationsLimit,
               "the stations file's limit is the bundle adjustment's capacity");
 
-int fail(int code, const std::string& message) {
-    std::fprintf(stderr, "vtm panorama: %s\n", message.c_str());
-    return code;
-}
-
-std::string number(double v, const char* format = "%.3f") {
+std::string fixedText(double v, const char* format = "%.3f") {
     char b[48];
     std::snprintf(b, sizeof b, format, v);
     return b;
 }
 
 // Everything read from the files: the stations as the executive takes them.
-struct Inputs {
+struct PanoramaInputs {
     ground::PanoramaStationsFile file;
     std::vector<GreyImage> eyes;  // 2k left, 2k + 1 right
     std::vector<NetworkStation> stations;
@@ -76,7 +72,7 @@ ground::Result<GreyImage> loadEye(const std::string& path, int bit_depth) {
     return ground::Result<GreyImage>::success(std::move(out));
 }
 
-std::string loadStations(const std::string& path, Inputs& in) {
+std::string loadStations(const std::string& path, PanoramaInputs& in) {
     ground::Result<ground::PanoramaStationsFile> f = ground::readPanoramaStationsFile(path);
     if (!f.ok) return f.error;
     in.file = std::move(f.value);
@@ -121,12 +117,12 @@ std::string loadStations(const std::string& path, Inputs& in) {
 }
 
 // The grid and the ring from the options; "" or the error (a usage error).
-std::string planOptions(const PanoramaOptions& o, const Inputs& in, PanoramaGrid& grid, std::int32_t& ring,
+std::string planOptions(const PanoramaOptions& o, const PanoramaInputs& in, PanoramaGrid& grid, std::int32_t& ring,
                         double& range_min, double& range_max) {
-    if (!(o.cell_m > 0.0 && o.cell_m <= 100.0)) return "--cell " + number(o.cell_m, "%g") + ": expected (0, 100] metres";
+    if (!(o.cell_m > 0.0 && o.cell_m <= 100.0)) return "--cell " + fixedText(o.cell_m, "%g") + ": expected (0, 100] metres";
     const double cells = std::round(o.extent_m / o.cell_m);
     if (!(o.extent_m > 0.0) || !(cells >= 2.0 && cells <= terrain::kMaxGridSide)) {
-        return "--extent " + number(o.extent_m, "%g") + ": expected 2.." + std::to_string(terrain::kMaxGridSide) +
+        return "--extent " + fixedText(o.extent_m, "%g") + ": expected 2.." + std::to_string(terrain::kMaxGridSide) +
                " cells of --cell a side";
     }
     grid.cell_m = o.cell_m;
@@ -200,7 +196,7 @@ std::string tiePointsText(const app::PanoramaProducts& p) {
 
 // Rotation (deg) and position (m) errors of the stations against the file's true poses:
 // the mean and the largest, before (approx) and after (adjusted). "" without true poses.
-std::string truthText(const Inputs& in, const app::PanoramaProducts& p) {
+std::string truthText(const PanoramaInputs& in, const app::PanoramaProducts& p) {
     double rot[2] = {0.0, 0.0}, pos[2] = {0.0, 0.0}, rot_max[2] = {0.0, 0.0}, pos_max[2] = {0.0, 0.0};
     const double n = static_cast<double>(in.stations.size());
     for (std::size_t k = 0; k < in.stations.size(); ++k) {
@@ -217,13 +213,13 @@ std::string truthText(const Inputs& in, const app::PanoramaProducts& p) {
         }
     }
     return "| left eye against the file's true poses | before (approx) | after (adjusted) |\n|---|---|---|\n"
-           "| rotation error, mean / max, deg | " + number(rot[0]) + " / " + number(rot_max[0]) + " | " +
-           number(rot[1]) + " / " + number(rot_max[1]) + " |\n| position error, mean / max, m | " +
-           number(pos[0], "%.4f") + " / " + number(pos_max[0], "%.4f") + " | " + number(pos[1], "%.4f") + " / " +
-           number(pos_max[1], "%.4f") + " |\n\n";
+           "| rotation error, mean / max, deg | " + fixedText(rot[0]) + " / " + fixedText(rot_max[0]) + " | " +
+           fixedText(rot[1]) + " / " + fixedText(rot_max[1]) + " |\n| position error, mean / max, m | " +
+           fixedText(pos[0], "%.4f") + " / " + fixedText(pos_max[0], "%.4f") + " | " + fixedText(pos[1], "%.4f") + " / " +
+           fixedText(pos_max[1], "%.4f") + " |\n\n";
 }
 
-std::string reportText(const PanoramaOptions& o, const Inputs& in, const app::PanoramaMapperConfig& c,
+std::string reportText(const PanoramaOptions& o, const PanoramaInputs& in, const app::PanoramaMapperConfig& c,
                        const app::PanoramaMapper& mapper, double load_s, double map_s) {
     const app::PanoramaProducts& p = *mapper.products();
     const terrain::GridConfig& g = p.elevation->grid();
@@ -234,16 +230,16 @@ std::string reportText(const PanoramaOptions& o, const Inputs& in, const app::Pa
                                                         : c.ring_stations) +
                     ", eyes " + std::to_string(in.width) + " x " + std::to_string(in.height) + " px, dense stereo " +
                     (c.dense_stereo ? "on" : "off") + ". Elevation grid " + std::to_string(g.cols) + " x " +
-                    std::to_string(g.rows) + " cells of " + number(g.cell_m, "%g") + " m, north-west corner (" +
-                    number(g.north_edge_m) + ", " + number(g.west_edge_m) + ") m. Executive memory planned at init: " +
-                    std::to_string(mapper.memoryBytes()) + " bytes. Reading the files " + number(load_s, "%.2f") +
-                    " s, mapping " + number(map_s, "%.2f") + " s.\n\n";
+                    std::to_string(g.rows) + " cells of " + fixedText(g.cell_m, "%g") + " m, north-west corner (" +
+                    fixedText(g.north_edge_m) + ", " + fixedText(g.west_edge_m) + ") m. Executive memory planned at init: " +
+                    std::to_string(mapper.memoryBytes()) + " bytes. Reading the files " + fixedText(load_s, "%.2f") +
+                    " s, mapping " + fixedText(map_s, "%.2f") + " s.\n\n";
     t += "| tie points | observations | inliers / outliers | image RMS before -> after, px | dense points | dense "
          "samples (gate dropped) | tie samples | nodes estimated | orthophoto nodes |\n"
          "|---|---|---|---|---|---|---|---|---|\n| " +
          std::to_string(p.points) + " | " + std::to_string(p.observations.size()) + " | " +
          std::to_string(p.bundle.inliers) + " / " + std::to_string(p.bundle.outliers) + " | " +
-         number(p.bundle.rms_before_px) + " -> " + number(p.bundle.rms_after_px) + " | " +
+         fixedText(p.bundle.rms_before_px) + " -> " + fixedText(p.bundle.rms_after_px) + " | " +
          std::to_string(p.dense_points) + " | " + std::to_string(p.dense_samples) + " (" +
          std::to_string(p.dense_rejected) + ") | " + std::to_string(p.tie_samples) + " | " +
          std::to_string(p.kriging.estimated) + " of " + std::to_string(nodes) + " | " +
@@ -281,10 +277,6 @@ std::string writeGeoTiffs(const PanoramaOptions& o, const app::PanoramaProducts&
     return w.ok ? "" : w.error;
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 CLI::App* addPanoramaCommand(CLI::App& app, PanoramaOptions& o) {
@@ -306,34 +298,34 @@ int runPanorama(const PanoramaOptions& o) {
     double lat = 0.0, lon = 0.0;
     const std::string site = cli::parseOptionPair("--site", o.site, cli::PairRule::kAny, "in degrees", "-4.5:137.4",
                                                   lat, lon);
-    if (!site.empty()) return fail(tools::kExitUsageError, site);
+    if (!site.empty()) return failCommand("panorama", tools::kExitUsageError, site);
     const auto t0 = std::chrono::steady_clock::now();
-    auto in = std::make_unique<Inputs>();
+    auto in = std::make_unique<PanoramaInputs>();
     std::string e = loadStations(o.stations, *in);
-    if (!e.empty()) return fail(kExitInputError, e);
+    if (!e.empty()) return failCommand("panorama", kExitInputError, e);
     PanoramaGrid grid;
     std::int32_t ring = 0;
     double range_min = 0.0, range_max = 0.0;
     e = planOptions(o, *in, grid, ring, range_min, range_max);
-    if (!e.empty()) return fail(kExitUsageError, e);
+    if (!e.empty()) return failCommand("panorama", kExitUsageError, e);
     app::PanoramaMapperConfig c = panoramaMapperConfig(static_cast<std::int32_t>(in->stations.size()), ring,
                                                        in->width, in->height, grid);
     c.dense_stereo = !o.no_dense;
     c.range_min_m = range_min;
     c.range_max_m = range_max;
     const Status v = c.validate();
-    if (!v.isOk()) return fail(kExitInputError, std::string("configuration refused: ") + v.reason());
+    if (!v.isOk()) return failCommand("panorama", kExitInputError, std::string("configuration refused: ") + v.reason());
     const double load_s = secondsSince(t0);
     std::error_code ec;
     fs::create_directories(o.out_dir, ec);
-    if (ec) return fail(kExitInputError, o.out_dir + ": cannot create the directory: " + ec.message());
+    if (ec) return failCommand("panorama", kExitInputError, o.out_dir + ": cannot create the directory: " + ec.message());
     hal::MonotonicClock clock;
     auto events = std::make_unique<hal::EventLog>();
     std::vector<std::byte> pool(app::PanoramaMapper::workspaceBytes(c) + 64U);
     Arena arena(pool.data(), pool.size());
     auto mapper = std::make_unique<app::PanoramaMapper>();
     Status st = mapper->init(c, arena, clock, *events);
-    if (!st.isOk()) return fail(kExitInputError, std::string("PanoramaMapper::init: ") + st.reason());
+    if (!st.isOk()) return failCommand("panorama", kExitInputError, std::string("PanoramaMapper::init: ") + st.reason());
     arena.freeze();
     const auto tm = std::chrono::steady_clock::now();
     st = mapper->map(Span<const NetworkStation>(in->stations.data(), in->stations.size()),
@@ -342,7 +334,7 @@ int runPanorama(const PanoramaOptions& o) {
     const app::PanoramaProducts* p = mapper->products();
     if (!st.isOk() || p == nullptr) {
         const app::StageRecord* f = mapper->stages().failed();
-        return fail(kExitInputError, o.stations + ": stage " + (f != nullptr ? app::stageName(f->stage) : "?") +
+        return failCommand("panorama", kExitInputError, o.stations + ": stage " + (f != nullptr ? app::stageName(f->stage) : "?") +
                                          " failed: " + st.reason() + " (" + std::to_string(st.detail()) + ")");
     }
     e = writePanoramaRasters(o.out_dir, "panorama_", *p, in->images[0]);
@@ -350,7 +342,7 @@ int runPanorama(const PanoramaOptions& o) {
     if (e.empty()) e = writeText(o.out_dir + "/panorama_poses.txt", posesText(*p));
     if (e.empty()) e = writeText(o.out_dir + "/panorama_tiepoints.txt", tiePointsText(*p));
     if (e.empty()) e = writeText(o.out_dir + "/panorama_report.md", reportText(o, *in, c, *mapper, load_s, map_s));
-    if (!e.empty()) return fail(kExitInputError, e);
+    if (!e.empty()) return failCommand("panorama", kExitInputError, e);
     std::printf("vtm panorama: %zu stations mapped in %.2f s: %u tie points, image RMS %.3f -> %.3f px, %d of %d "
                 "nodes estimated -> %s\n",
                 in->stations.size(), map_s, p->points, p->bundle.rms_before_px, p->bundle.rms_after_px,

@@ -1,4 +1,5 @@
 #include "register_command.hpp"
+#include "command_support.hpp"
 #include "option_pair.hpp"
 
 #include <algorithm>
@@ -16,11 +17,6 @@ namespace vtm::tools {
 namespace {
 
 constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
-
-int fail(int code, const std::string& message) {
-    std::fprintf(stderr, "vtm register: %s\n", message.c_str());
-    return code;
-}
 
 std::string requestOf(const RegisterOptions& o, entropy::RegistrationRequest& r) {
     double lo = 0.0, hi = 0.0;
@@ -119,16 +115,16 @@ CLI::App* addRegisterCommand(CLI::App& app, RegisterOptions& o) {
 int runRegister(const RegisterOptions& o) {
     entropy::RegistrationRequest request;
     const std::string bad = requestOf(o, request);
-    if (!bad.empty()) return fail(kExitUsageError, bad);
+    if (!bad.empty()) return failCommand("register", kExitUsageError, bad);
     if (o.equalise_radius_px < 0 || o.equalise_radius_px > entropy::kMaxEqualiseRadius) {
-        return fail(kExitUsageError, "--equalise-radius " + std::to_string(o.equalise_radius_px) +
+        return failCommand("register", kExitUsageError, "--equalise-radius " + std::to_string(o.equalise_radius_px) +
                                          ": must be 0 (whole image) .. " + std::to_string(entropy::kMaxEqualiseRadius) +
                                          " px");
     }
     const ground::Result<ground::GreyImage> a = ground::loadGrey8(o.image1);
-    if (!a.ok) return fail(kExitInputError, a.error);
+    if (!a.ok) return failCommand("register", kExitInputError, a.error);
     const ground::Result<ground::GreyImage> b = ground::loadGrey8(o.image2);
-    if (!b.ok) return fail(kExitInputError, b.error);
+    if (!b.ok) return failCommand("register", kExitInputError, b.error);
     entropy::RegistrationConfig c;
     c.max_width = std::max(a.value.width, b.value.width);
     c.max_height = std::max(a.value.height, b.value.height);
@@ -136,35 +132,35 @@ int runRegister(const RegisterOptions& o) {
     c.equalise_radius_px = o.equalise_radius_px;
     const Status valid = c.validate();
     if (!valid.isOk()) {
-        return fail(kExitInputError, o.image1 + ", " + o.image2 + ": " + valid.reason() + " (" +
+        return failCommand("register", kExitInputError, o.image1 + ", " + o.image2 + ": " + valid.reason() + " (" +
                                          std::to_string(valid.detail()) + ")");
     }
     std::vector<std::byte> pool(entropy::EntropyRegistration::workspaceBytes(c));
     Arena arena(pool.data(), pool.size());
     entropy::EntropyRegistration reg;
     const Status init = reg.init(c, arena);
-    if (!init.isOk()) return fail(kExitInputError, std::string("EntropyRegistration::init: ") + init.reason());
+    if (!init.isOk()) return failCommand("register", kExitInputError, std::string("EntropyRegistration::init: ") + init.reason());
     entropy::Registration r;
     const Status s = reg.registerImages(a.value.view(), b.value.view(), request, r);
     if (s.code() == StatusCode::kInvalidArgument || s.code() == StatusCode::kSizeMismatch) {
-        return fail(kExitInputError, std::string(s.reason()) + " (" + o.image1 + ", " + o.image2 + ")");
+        return failCommand("register", kExitInputError, std::string(s.reason()) + " (" + o.image1 + ", " + o.image2 + ")");
     }
     const std::string text = report(o, r, s);
     std::fputs(text.c_str(), stdout);
     if (!o.out.empty()) {
         FILE* f = std::fopen(o.out.c_str(), "w");
         if (f == nullptr || std::fputs(text.c_str(), f) < 0 || std::fclose(f) != 0) {
-            return fail(kExitInputError, o.out + ": cannot write");
+            return failCommand("register", kExitInputError, o.out + ": cannot write");
         }
     }
     const std::string written = writeMatched(o, reg);
-    if (!written.empty()) return fail(kExitInputError, written);
+    if (!written.empty()) return failCommand("register", kExitInputError, written);
     if (!o.matches_png.empty()) {
         const ground::Outcome w = ground::writePng(o.matches_png, checkerboard(a.value, b.value, r.image2_from_image1));
-        if (!w.ok) return fail(kExitInputError, w.error);
+        if (!w.ok) return failCommand("register", kExitInputError, w.error);
     }
     if (!s.isOk()) {
-        return fail(kExitInputError, std::string("no registration: ") + s.reason() + " (" + o.image1 + ", " +
+        return failCommand("register", kExitInputError, std::string("no registration: ") + s.reason() + " (" + o.image1 + ", " +
                                          o.image2 + ")");
     }
     return kExitOk;

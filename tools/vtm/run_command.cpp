@@ -1,4 +1,5 @@
 #include "run_command.hpp"
+#include "command_support.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -37,15 +38,6 @@ namespace {
 namespace fs = std::filesystem;
 using ground::FloatImage;
 using ground::GreyImage;
-
-int fail(const std::string& message) {
-    std::fprintf(stderr, "vtm run: %s\n", message.c_str());
-    return kExitInputError;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 using World = ground::SimWorld;
 
@@ -124,13 +116,6 @@ app::DescentMapperConfig configFor(const World& w) {
     return c;
 }
 
-const sim::ScenarioFrame* frameAt(const World& w, std::uint64_t t_ns) {
-    for (std::int32_t i = 0; i < w.frames->count; ++i) {
-        if (w.frames->frames[i].timestamp_ns == t_ns) return &w.frames->frames[i];
-    }
-    return nullptr;
-}
-
 // Accuracy of one published request against the renderer's truth of image 1.
 struct Accuracy {
     double valid_fraction = 0.0;
@@ -144,7 +129,7 @@ struct Accuracy {
 
 Accuracy measure(const World& w, const app::DescentProducts& p, std::vector<Vec3>& points) {
     Accuracy a;
-    const sim::ScenarioFrame* f1 = frameAt(w, p.frame1.timestamp_ns);
+    const sim::ScenarioFrame* f1 = ground::frameAt(w, p.frame1.timestamp_ns);
     if (f1 == nullptr) return a;
     const std::int32_t W = p.depth_m.width(), H = p.depth_m.height();
     std::vector<float> depth(static_cast<std::size_t>(W) * H), pts(3U * depth.size());
@@ -453,13 +438,13 @@ CLI::App* addRunCommand(CLI::App& app, RunOptions& o) {
 int runMission(const RunOptions& o) {
     if (!o.target.empty()) return runOnTarget(o);
     if (!o.expect_target.empty() && o.expect_target != kTarget) {
-        return fail("--expect-target " + o.expect_target + ": this vtm was built for " + kTarget);
+        return failCommand("run", kExitInputError, "--expect-target " + o.expect_target + ": this vtm was built for " + kTarget);
     }
     const bool cross = std::string(kTarget) != "host";
     const auto t0 = std::chrono::steady_clock::now();
     std::error_code ec;
     fs::create_directories(o.out_dir, ec);
-    if (ec) return fail(o.out_dir + ": cannot create: " + ec.message());
+    if (ec) return failCommand("run", kExitInputError, o.out_dir + ": cannot create: " + ec.message());
     std::vector<std::string> names;
     if (o.scenario.empty()) {
         names = {"rover", "descent", "panorama", "traverse"};
@@ -488,7 +473,7 @@ int runMission(const RunOptions& o) {
             int refused = 0;
             std::string section;
             e = flyTraverse(text, o.size_px > 0 ? o.size_px : kTraverseSidePx, o.out_dir, section, models, refused);
-            if (!e.empty()) return fail(label + ": " + e);
+            if (!e.empty()) return failCommand("run", kExitInputError, label + ": " + e);
             if (o.link) section += "The traverse is flown in process also with --link.\n\n";
             labels += (labels.empty() ? "" : " + ") + label;
             requests += models;  // each model added to the map is a request of the integrator
@@ -497,7 +482,7 @@ int runMission(const RunOptions& o) {
             continue;
         }
         if (e.empty()) e = buildWorld(o, text, label, *world);
-        if (!e.empty()) return fail(e);
+        if (!e.empty()) return failCommand("run", kExitInputError, e);
         std::fprintf(stderr, "vtm run: world built in %.1f s, %d frames\n", world->terrain_seconds, world->frames->count);
         labels += (labels.empty() ? "" : " + ") + label;
         std::string section;
@@ -506,7 +491,7 @@ int runMission(const RunOptions& o) {
             // "PanoramaMapper"): no camera or odometry driver, in process also with --link.
             bool mapped = false;
             e = flyPanorama(*world, o.out_dir, section, mapped);
-            if (!e.empty()) return fail(label + ": " + e);
+            if (!e.empty()) return failCommand("run", kExitInputError, label + ": " + e);
             if (o.link) {
                 section += "The panorama is flown in process also with --link: its executive takes the stations' "
                            "images and pointing priors, not frames from hal::Camera.\n\n";
@@ -529,7 +514,7 @@ int runMission(const RunOptions& o) {
         } else {
             e = drivers.startInProcess(*world);
         }
-        if (!e.empty()) return fail(label + ": " + e);
+        if (!e.empty()) return failCommand("run", kExitInputError, label + ": " + e);
         if (rover) {
             bool mapped = false;
             e = flyRover(*world, drivers.camera(), drivers.odometry(), o.out_dir, section, mapped);
@@ -548,7 +533,7 @@ int runMission(const RunOptions& o) {
                        "LinkCamera, LinkOdometry on a Unix socket); link faults counted: " +
                        std::to_string(drivers.linkFaults()) + ".\n\n";
         }
-        if (!e.empty()) return fail(label + ": " + e);
+        if (!e.empty()) return failCommand("run", kExitInputError, label + ": " + e);
         sections += section;
     }
     std::ostringstream md;

@@ -1,4 +1,5 @@
 #include "run_panorama.hpp"
+#include "command_support.hpp"
 #include "panorama_setup.hpp"
 
 #include <algorithm>
@@ -18,10 +19,6 @@
 namespace vtm::tools {
 namespace {
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 // The executive's configuration for the scenario's panorama (panorama_setup.hpp); the
 // elevation grid: a 20 m square at 0.25 m centred on the mast.
 app::PanoramaMapperConfig configFor(const sim::Panorama& pano, std::int32_t side) {
@@ -37,7 +34,7 @@ struct Band {
     std::int32_t nodes = 0;
 };
 
-struct Measured {
+struct PanoramaMeasures {
     std::vector<Band> bands;
     double ortho_coverage = 0.0;  // orthophoto nodes filled, 1-10 m from the mast
     double seam_ratio = 0.0;
@@ -50,8 +47,8 @@ double rms(const std::vector<double>& v) {
     return v.empty() ? 0.0 : std::sqrt(s / static_cast<double>(v.size()));
 }
 
-Measured measure(const ground::SimWorld& w, const sim::Panorama& pano, const app::PanoramaProducts& p) {
-    Measured m;
+PanoramaMeasures measure(const ground::SimWorld& w, const sim::Panorama& pano, const app::PanoramaProducts& p) {
+    PanoramaMeasures m;
     m.bands = {{1.0, 2.0, {}, 0}, {2.0, 4.0, {}, 0}, {4.0, 6.0, {}, 0}, {6.0, 10.0, {}, 0}};
     const kriging::KrigedMap& map = *p.elevation;
     const terrain::GridConfig& g = map.grid();
@@ -81,7 +78,7 @@ Measured measure(const ground::SimWorld& w, const sim::Panorama& pano, const app
 }
 
 std::string sectionOf(const app::PanoramaMapperConfig& c, const sim::Panorama& pano, std::int32_t side,
-                      const app::PanoramaMapper& mapper, const Measured* m, double render_s, double map_s,
+                      const app::PanoramaMapper& mapper, const PanoramaMeasures* m, double render_s, double map_s,
                       const std::string& failure) {
     std::ostringstream md;
     char b[512];
@@ -180,7 +177,7 @@ std::string flyPanorama(const ground::SimWorld& world, const std::string& out_di
         return "";
     }
     mapped = true;
-    const Measured m = measure(world, *pano, *p);
+    const PanoramaMeasures m = measure(world, *pano, *p);
     const std::string w = writePanoramaRasters(out_dir, "panorama_", *p, images[0]);
     if (!w.empty()) return w;
     std::fprintf(stderr, "vtm run: panorama mapped in %.1f s: %u tie points, image RMS %.3f -> %.3f px\n", map_s,

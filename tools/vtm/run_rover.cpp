@@ -1,4 +1,5 @@
 #include "run_rover.hpp"
+#include "command_support.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -23,7 +24,6 @@ namespace {
 using ground::FloatImage;
 using ground::GreyImage;
 
-constexpr double kDegPerRad = 57.29577951308232;
 
 // The flight defaults (docs/app.md) at the scenario camera's size; the mount is the
 // simulator's camera pose in its vehicle frame (the calibration).
@@ -40,20 +40,13 @@ app::WideBaselineMapperConfig configFor(const sim::ScenarioFrame& f) {
     return c;
 }
 
-const sim::ScenarioFrame* frameAt(const ground::SimWorld& w, std::uint64_t t_ns) {
-    for (std::int32_t i = 0; i < w.frames->count; ++i) {
-        if (w.frames->frames[i].timestamp_ns == t_ns) return &w.frames->frames[i];
-    }
-    return nullptr;
-}
-
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
     return v[v.size() / 2];
 }
 
-struct Measured {
+struct RoverMeasures {
     double rot_before_deg = 0.0, rot_after_deg = 0.0;
     double dir_before_deg = 0.0, dir_after_deg = 0.0;
     double baseline_scale_error = 0.0;  // odometry baseline length / true - 1
@@ -123,12 +116,12 @@ GreyImage copy8(const ImageView<const std::uint8_t>& v) {
     return out;
 }
 
-// The band's coverage (Measured::band_*, ranged_*, coverage) from image 1's true range and
+// The band's coverage (RoverMeasures::band_*, ranged_*, coverage) from image 1's true range and
 // site points and image 2's true range. Seen by camera 2: the point projects into image 2
 // and image 2's true range there is the point's (within 1 %: not hidden behind other terrain).
 void measureBand(const app::WideBaselineProducts& p, const sim::ScenarioFrame& f1, const sim::ScenarioFrame& f2,
                  const FloatImage& range, const std::vector<float>& truth, const std::vector<float>& point1,
-                 const std::vector<float>& truth2, Measured& m) {
+                 const std::vector<float>& truth2, RoverMeasures& m) {
     const std::int32_t W = range.width, H = range.height;
     const auto seenBy2 = [&](std::size_t i) {
         const Vec3 site(point1[3 * i], point1[3 * i + 1], point1[3 * i + 2]);
@@ -174,10 +167,10 @@ void measureBand(const app::WideBaselineProducts& p, const sim::ScenarioFrame& f
     m.band_median = median(band_rel);
 }
 
-Measured measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, const FloatImage& range) {
-    Measured m;
-    const sim::ScenarioFrame* f1 = frameAt(w, p.frame1.timestamp_ns);
-    const sim::ScenarioFrame* f2 = frameAt(w, p.frame2.timestamp_ns);
+RoverMeasures measure(const ground::SimWorld& w, const app::WideBaselineProducts& p, const FloatImage& range) {
+    RoverMeasures m;
+    const sim::ScenarioFrame* f1 = ground::frameAt(w, p.frame1.timestamp_ns);
+    const sim::ScenarioFrame* f2 = ground::frameAt(w, p.frame2.timestamp_ns);
     if (f1 == nullptr || f2 == nullptr) return m;
     const Mat3 R_true = f2->camera_pose.R.transpose() * f1->camera_pose.R;
     const Vec3 t_true = f2->camera_pose.R.transpose() *
@@ -343,7 +336,7 @@ std::string flyRover(const ground::SimWorld& world, hal::Camera& camera, hal::Od
     }
     mapped = true;
     const FloatImage range = rangeImage(*p);
-    const Measured m = measure(world, *p, range);
+    const RoverMeasures m = measure(world, *p, range);
     const std::string written = writeProducts(out_dir, *p, range, m.coverage);
     if (!written.empty()) return written;
     std::snprintf(b, sizeof b,

@@ -1,4 +1,5 @@
 #include "run_target.hpp"
+#include "command_support.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -32,11 +33,6 @@ constexpr TargetInfo kTargets[] = {
     {"aarch64", "qemu-aarch64"}, {"armhf", "qemu-arm"},         {"ppc750", "qemu-ppc"},
     {"leon3", "qemu-sparc32plus"}, {"riscv64", "qemu-riscv64"},
 };
-
-int fail(const std::string& message) {
-    std::fprintf(stderr, "vtm run: %s\n", message.c_str());
-    return kExitInputError;
-}
 
 // build/<target>/tools/vtm/vtm beside this build (build/<preset>/tools/vtm/vtm), or "".
 std::string defaultFlightExecutable(const std::string& target) {
@@ -98,24 +94,24 @@ int runOnTarget(const RunOptions& o) {
         if (o.target == t.name) target = &t;
     }
     if (target == nullptr) {
-        return fail("--target '" + o.target + "': unknown (one of: " + runTargetNames() + ")");
+        return failCommand("run", kExitInputError, "--target '" + o.target + "': unknown (one of: " + runTargetNames() + ")");
     }
     if (std::string(kTarget) != "host") {
-        return fail(std::string("--target: this vtm is the ") + kTarget +
+        return failCommand("run", kExitInputError, std::string("--target: this vtm is the ") + kTarget +
                     " build; run --target from the host build (build/host-release/tools/vtm/vtm)");
     }
     const std::string flight = o.flight_executable.empty() ? defaultFlightExecutable(target->name) : o.flight_executable;
     if (flight.empty() || ::access(flight.c_str(), X_OK) != 0) {
-        return fail("--flight '" + flight + "': no " + target->name + " vtm there (build it: cmake --preset " +
+        return failCommand("run", kExitInputError, "--flight '" + flight + "': no " + target->name + " vtm there (build it: cmake --preset " +
                     target->name + " && cmake --build --preset " + target->name + " --target vtm)");
     }
     const std::string emulator = onPath(target->emulator);
     if (emulator.empty()) {
-        return fail(std::string(target->emulator) + ": not found on PATH (Debian package qemu-user)");
+        return failCommand("run", kExitInputError, std::string(target->emulator) + ": not found on PATH (Debian package qemu-user)");
     }
     const std::string sim = o.sim_executable.empty() ? defaultSimExecutable() : o.sim_executable;
     if (sim.empty() || ::access(sim.c_str(), X_OK) != 0) {
-        return fail("--sim '" + sim + "': no native vtm-sim there (build it: cmake --build --preset host-release)");
+        return failCommand("run", kExitInputError, "--sim '" + sim + "': no native vtm-sim there (build it: cmake --build --preset host-release)");
     }
     std::vector<std::string> args = {emulator, flight, "run"};
     if (!o.scenario.empty()) args.push_back(o.scenario);
@@ -129,9 +125,9 @@ int runOnTarget(const RunOptions& o) {
     std::string error;
     const int rc = spawnAndWait(args, error);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (rc == -1000) return fail(error);
+    if (rc == -1000) return failCommand("run", kExitInputError, error);
     if (rc < 0) {
-        return fail(flight + " under " + target->emulator + ": killed by signal " + std::to_string(-rc) + " (" +
+        return failCommand("run", kExitInputError, flight + " under " + target->emulator + ": killed by signal " + std::to_string(-rc) + " (" +
                     strsignal(-rc) + ") after " + std::to_string(static_cast<int>(seconds)) + " s");
     }
     std::fprintf(stderr, "vtm run: the %s vtm ended with exit code %d after %.1f s under %s\n", target->name, rc,

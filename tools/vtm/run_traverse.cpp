@@ -1,4 +1,5 @@
 #include "run_traverse.hpp"
+#include "command_support.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -18,10 +19,6 @@ namespace vtm::tools {
 namespace {
 
 using traverse::Mode;
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // "2m", "0.5m", "0.25m": the product's cell in a file name.
 std::string cellName(double cell_m) {

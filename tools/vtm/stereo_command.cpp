@@ -1,4 +1,5 @@
 #include "stereo_command.hpp"
+#include "command_support.hpp"
 #include "option_pair.hpp"
 
 #include <chrono>
@@ -44,11 +45,6 @@ std::string reasonName(std::int32_t value) {
     }
 }
 
-int fail(int code, const std::string& message) {
-    std::fprintf(stderr, "vtm stereo: %s\n", message.c_str());
-    return code;
-}
-
 struct DisparityRange {
     bool ok = false;
     std::int32_t min = 0;
@@ -64,7 +60,6 @@ DisparityRange parseRange(const std::string& text) {
     return DisparityRange{true, static_cast<std::int32_t>(lo), static_cast<std::int32_t>(hi), ""};
 }
 
-std::string sizeText(const GreyImage& img) { return std::to_string(img.width) + "x" + std::to_string(img.height); }
 
 struct StereoInputs {
     GreyImage left;
@@ -215,10 +210,10 @@ CLI::App* addStereoCommand(CLI::App& app, StereoOptions& o) {
 int runStereo(const StereoOptions& o) {
     const DisparityRange range = parseRange(o.disparity_range);
     if (!range.ok) {
-        return fail(kExitUsageError, range.error);
+        return failCommand("stereo", kExitUsageError, range.error);
     }
     if (!(o.budget_mib > 0.0) || !std::isfinite(o.budget_mib)) {
-        return fail(kExitUsageError, "--budget-mib " + std::to_string(o.budget_mib) + ": must be a positive number");
+        return failCommand("stereo", kExitUsageError, "--budget-mib " + std::to_string(o.budget_mib) + ": must be a positive number");
     }
     StereoInputs in;
     std::string error = prepare(o, range, in);
@@ -228,7 +223,7 @@ int runStereo(const StereoOptions& o) {
     error = error.empty() ? runMatcher(in, workspace, !o.uncertainty_pfm.empty(), run) : error;
     error = error.empty() ? writeOutputs(o, in, run) : error;
     if (!error.empty()) {
-        return fail(kExitInputError, error);
+        return failCommand("stereo", kExitInputError, error);
     }
     printSummary(o, in, workspace, run);
     return kExitOk;

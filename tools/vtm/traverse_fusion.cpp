@@ -1,5 +1,6 @@
 // The traverse and the descent fused by TerrainIntegrator (traverse_fusion.hpp).
 #include "traverse_fusion.hpp"
+#include "command_support.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -9,6 +10,8 @@
 namespace vtm::traverse {
 namespace {
 
+using tools::secondsSince;
+
 constexpr int kRegistrationLevel = 9;
 
 RigidPose inverse(const RigidPose& a) {
@@ -16,10 +19,6 @@ RigidPose inverse(const RigidPose& a) {
     p.R = a.R.transpose();
     p.t_m = -(p.R * a.t_m);
     return p;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void add(Fusion& f, const app::ModelInput& m, const std::string& name) {

@@ -1,5 +1,6 @@
 // Builds the world of the traverse-and-descent fusion (traverse_world.hpp).
 #include "traverse_world.hpp"
+#include "command_support.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -20,10 +21,7 @@ namespace vtm::traverse {
 namespace {
 
 using ground::setScenarioValue;
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
+using tools::secondsSince;
 
 // The descent over the traverse's terrain: the traverse file up to its [camera] section
 // (name, seed, [terrain]) and a nadir camera that sinks from 60 m to 40 m while drifting

@@ -1,4 +1,5 @@
 #include "wide_baseline_command.hpp"
+#include "command_support.hpp"
 #include "option_pair.hpp"
 
 #include <algorithm>
@@ -46,7 +47,6 @@ struct PairInputs {
     Vec3 t_2_from_1_m = Vec3::Zero();
 };
 
-std::string sizeText(const GreyImage& img) { return std::to_string(img.width) + "x" + std::to_string(img.height); }
 
 // --range MIN:MAX in metres, 0 < MIN < MAX; "" or the error.
 std::string parseRange(const std::string& text, double& lo, double& hi) {
@@ -96,11 +96,6 @@ std::string loadPair(const WideBaselineOptions& o, PairInputs& in) {
 
 std::string statusText(const char* what, const Status& s) {
     return std::string(what) + ": " + s.reason() + " (" + std::to_string(s.detail()) + ")";
-}
-
-int fail(const char* command, int code, const std::string& message) {
-    std::fprintf(stderr, "vtm %s: %s\n", command, message.c_str());
-    return code;
 }
 
 double seconds(std::chrono::steady_clock::time_point t0) {
@@ -264,33 +259,33 @@ CLI::App* addRefineCommand(CLI::App& app, WideBaselineOptions& o) {
 
 int runRefine(const WideBaselineOptions& o) {
     if (!(o.margin_px > 0.0) || !std::isfinite(o.margin_px) || o.margin_px > 1000.0) {
-        return fail("refine", kExitUsageError, "--margin " + std::to_string(o.margin_px) + ": must be in (0, 1000] px");
+        return failCommand("refine", kExitUsageError, "--margin " + std::to_string(o.margin_px) + ": must be in (0, 1000] px");
     }
     if (!(o.mast_height_m >= 0.0) || !std::isfinite(o.mast_height_m) || o.mast_height_m > 100.0) {
-        return fail("refine", kExitUsageError,
+        return failCommand("refine", kExitUsageError,
                     "--mast-height " + std::to_string(o.mast_height_m) + ": must be in [0, 100] m");
     }
     if (!std::isfinite(o.max_rotation_sigma_deg) || o.max_rotation_sigma_deg > 10.0 ||
         (o.max_rotation_sigma_deg > 0.0 && o.max_rotation_sigma_deg < 0.01)) {
-        return fail("refine", kExitUsageError,
+        return failCommand("refine", kExitUsageError,
                     "--max-rotation-sigma " + std::to_string(o.max_rotation_sigma_deg) + ": must be 0 (off) or 0.01..10 deg");
     }
     double lo = 0.0;
     double hi = 0.0;
     std::string error = parseRange(o.range, lo, hi);
-    if (!error.empty()) return fail("refine", kExitUsageError, error);
+    if (!error.empty()) return failCommand("refine", kExitUsageError, error);
     PairInputs in;
     error = loadPair(o, in);
     RefineRun run;
     if (error.empty()) error = refinePair(o, in, run);
-    if (!error.empty()) return fail("refine", kExitInputError, error);
+    if (!error.empty()) return failCommand("refine", kExitInputError, error);
     SimCameraPose p1 = in.pose1;
     SimCameraPose p2 = refinedPose2(in, run.result.motion);
     p1.frame_index = 0U;
     p2.frame_index = 1U;
     std::ofstream f(o.out);
     f << ground::formatCameraPoses({p1, p2});
-    if (!f.good()) return fail("refine", kExitInputError, o.out + ": cannot write");
+    if (!f.good()) return failCommand("refine", kExitInputError, o.out + ": cannot write");
     error = writeMatches(o.matches, run);
     const std::string report = refineReport(o, in, run);
     if (error.empty() && !o.report.empty()) {
@@ -298,7 +293,7 @@ int runRefine(const WideBaselineOptions& o) {
         r << report;
         if (!r.good()) error = o.report + ": cannot write";
     }
-    if (!error.empty()) return fail("refine", kExitInputError, error);
+    if (!error.empty()) return failCommand("refine", kExitInputError, error);
     std::fputs(report.c_str(), stdout);
     std::printf("\nrefined poses: %s (rectify with --pose1 %s:0 --pose2 %s:1)\n", o.out.c_str(), o.out.c_str(),
                 o.out.c_str());
@@ -451,14 +446,14 @@ int runRectify(const WideBaselineOptions& o) {
     double lo = 0.0;
     double hi = 0.0;
     std::string error = parseRange(o.range, lo, hi);
-    if (!error.empty()) return fail("rectify", kExitUsageError, error);
+    if (!error.empty()) return failCommand("rectify", kExitUsageError, error);
     PairInputs in;
     error = loadPair(o, in);
     RectifyRun run;
     if (error.empty()) error = runRectifier(in, run);
     const std::string report = error.empty() ? rectifyReport(o, in, run) : "";
     if (error.empty()) error = writeRectified(o, in, run, report);
-    if (!error.empty()) return fail("rectify", kExitInputError, error);
+    if (!error.empty()) return failCommand("rectify", kExitInputError, error);
     std::fputs(report.c_str(), stdout);
     return kExitOk;
 }

@@ -14,8 +14,8 @@
 namespace vtm::sim {
 
 namespace {
+using detail::kNoHitF;
 
-constexpr float kNoHitF = std::numeric_limits<float>::quiet_NaN();
 constexpr double kInvPi = 1.0 / math::kPi;
 // The footprint never grows beyond 10x the perpendicular footprint (grazing views).
 constexpr double kMinFootprintCos = 0.1;

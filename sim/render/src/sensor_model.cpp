@@ -7,11 +7,7 @@
 
 namespace vtm::sim {
 
-namespace {
-bool finiteIn(double v, double lo, double hi) noexcept {
-    return math::isFinite(v) && v >= lo && v <= hi;
-}
-}  // namespace
+using detail::finiteIn;
 
 Status validateSensorParams(const SensorParams& sensor) noexcept {
     if (sensor.bit_depth != 8 && sensor.bit_depth != 12) {

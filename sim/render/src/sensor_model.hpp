@@ -3,11 +3,19 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "sim/render.hpp"
+#include "vtm/core/math.hpp"
 #include "vtm/core/random.hpp"
 
 namespace vtm::sim::detail {
+
+// A depth or range where the ray hits nothing (sky): NaN in the float products.
+constexpr float kNoHitF = std::numeric_limits<float>::quiet_NaN();
+
+// True when v is finite and within [lo, hi]: the renderer's parameter checks.
+inline bool finiteIn(double v, double lo, double hi) noexcept { return math::isFinite(v) && v >= lo && v <= hi; }
 
 // Per-frame constants of the sensor model, derived once from SensorParams and the size.
 struct SensorConstants {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sensor_model.hpp"
 #include "sim/render.hpp"
 #include "sim/terrain.hpp"
 #include "vtm/core/math.hpp"
@@ -11,7 +12,7 @@ namespace vtm::sim {
 
 namespace {
 
-constexpr float kNoHitF = std::numeric_limits<float>::quiet_NaN();
+using detail::kNoHitF;
 
 bool undistortedPinhole(const CameraModel& m) noexcept {
     return m.kind == CameraModelKind::kPinholeBrown && m.k1 == 0.0 && m.k2 == 0.0 && m.k3 == 0.0 &&

@@ -1,4 +1,5 @@
 #include "vtm/ground/camera_model_io.hpp"
+#include "vtm/ground/number_text.hpp"
 
 #include <cstdio>
 #include <string_view>
@@ -10,16 +11,10 @@ namespace {
 
 // 17 significant digits identify every double; glibc's printf and strtod are both
 // correctly rounded, so the round trip is exact (also for -0, subnormals, extremes).
-std::string number(double value) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return buffer;
-}
-
-void scalar(std::string& out, const char* key, double value) { out += std::string(key) + " " + number(value) + "\n"; }
+void scalar(std::string& out, const char* key, double value) { out += std::string(key) + " " + exactNumber(value) + "\n"; }
 
 void vector3(std::string& out, const char* key, const double (&v)[3]) {
-    out += std::string(key) + " " + number(v[0]) + " " + number(v[1]) + " " + number(v[2]) + "\n";
+    out += std::string(key) + " " + exactNumber(v[0]) + " " + exactNumber(v[1]) + " " + exactNumber(v[2]) + "\n";
 }
 
 const char* kindName(CameraModelKind kind) {

@@ -1,5 +1,6 @@
 // The stations file (panorama_stations.hpp, docs/panorama-cli.md).
 #include "vtm/ground/panorama_stations.hpp"
+#include "vtm/ground/number_text.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -69,18 +70,12 @@ std::string poseOf(const Fields& f, RigidPose& pose) {
     return "";
 }
 
-std::string number(double v) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return b;
-}
-
 std::string poseText(const char* key, const RigidPose& pose) {
     SimCameraPose record;
     setSiteFromCam(record, pose);
     std::string t = key;
-    for (const double v : record.position_m) t += " " + number(v);
-    for (const double v : record.attitude_wxyz) t += " " + number(v);
+    for (const double v : record.position_m) t += " " + exactNumber(v);
+    for (const double v : record.attitude_wxyz) t += " " + exactNumber(v);
     return t + "\n";
 }
 
@@ -321,12 +316,12 @@ std::string formatPanoramaStations(const PanoramaStationsFile& file, const std::
         t += "station " + std::to_string(k);
         if (s.tier >= 0) t += " tier " + std::to_string(s.tier);
         if (s.column >= 0) t += " column " + std::to_string(s.column);
-        t += " pan_deg " + number(s.pan_deg) + " tilt_deg " + number(s.tilt_deg) + "\n";
+        t += " pan_deg " + exactNumber(s.pan_deg) + " tilt_deg " + exactNumber(s.tilt_deg) + "\n";
         t += "images " + s.left_image + " " + s.right_image + "\n";
         if (s.has_truth) t += poseText("true", s.truth);
         t += poseText("approx", s.approx);
         t += "prior";
-        for (int i = 0; i < 36; ++i) t += " " + number(s.prior(i / 6, i % 6));
+        for (int i = 0; i < 36; ++i) t += " " + exactNumber(s.prior(i / 6, i % 6));
         t += "\n";
     }
     return t;

@@ -1,5 +1,6 @@
 // Files of `vtm-sim render` (sim_output.hpp).
 #include "vtm/ground/sim_output.hpp"
+#include "vtm/ground/number_text.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -57,12 +58,6 @@ Bytes storedZlib(const Bytes& raw) {
     }
     putU32(z, (b << 16U) | a);
     return z;
-}
-
-std::string number(double v) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof(buffer), "%.17g", v);
-    return buffer;
 }
 
 bool allOffDiagonalZero(const SimPose& p) {
@@ -184,11 +179,11 @@ std::string formatPoseLog(const std::vector<SimPose>& poses, const std::string& 
                       "\n# timestamp_ns x y z [m, site: north east down] qw qx qy qz (T_site_from_vehicle) covariance\n";
     for (const SimPose& p : poses) {
         out += std::to_string(p.timestamp_ns);
-        for (const double v : p.position_m) out += " " + number(v);
-        for (const double v : p.attitude_wxyz) out += " " + number(v);
+        for (const double v : p.position_m) out += " " + exactNumber(v);
+        for (const double v : p.attitude_wxyz) out += " " + exactNumber(v);
         const bool diagonal = allOffDiagonalZero(p);
         for (int i = 0; i < 36; ++i) {
-            if (!diagonal || i % 7 == 0) out += " " + number(p.covariance[i]);
+            if (!diagonal || i % 7 == 0) out += " " + exactNumber(p.covariance[i]);
         }
         out += "\n";
     }
@@ -243,8 +238,8 @@ std::string formatCameraPoses(const std::vector<SimCameraPose>& poses) {
                       "qw qx qy qz (T_site_from_camera_reference_frame)\n";
     for (const SimCameraPose& p : poses) {
         out += std::to_string(p.frame_index) + " " + p.camera + " " + std::to_string(p.timestamp_ns);
-        for (const double v : p.position_m) out += " " + number(v);
-        for (const double v : p.attitude_wxyz) out += " " + number(v);
+        for (const double v : p.position_m) out += " " + exactNumber(v);
+        for (const double v : p.attitude_wxyz) out += " " + exactNumber(v);
         out += "\n";
     }
     return out;

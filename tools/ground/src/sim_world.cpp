@@ -33,4 +33,11 @@ std::string buildSimWorld(const std::string& text, SimWorld& w) {
     return "";
 }
 
+const sim::ScenarioFrame* frameAt(const SimWorld& world, std::uint64_t t_ns) {
+    for (std::int32_t i = 0; i < world.frames->count; ++i) {
+        if (world.frames->frames[i].timestamp_ns == t_ns) return &world.frames->frames[i];
+    }
+    return nullptr;
+}
+
 }  // namespace vtm::ground

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct SimWorld {
 // without the input's name: "line N: <reason>" (parse), "terrain: <reason>", or the
 // frames' reason; callers put the file or label in front.
 std::string buildSimWorld(const std::string& text, SimWorld& world);
+
+// The world's frame taken at `t_ns` (a scenario timestamp), or nullptr.
+const sim::ScenarioFrame* frameAt(const SimWorld& world, std::uint64_t t_ns);
 
 // Replaces the value of the first `key` at a line start in scenario text (the rest of the
 // text kept); false, text unchanged, when there is none.
