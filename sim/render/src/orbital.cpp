@@ -12,12 +12,12 @@
 namespace vtm::sim {
 
 namespace {
+
 using detail::finiteIn;
 
 // Mixed into the row noise seed in place of a frame index, so an orbital image and a
 // camera frame with the same noise_seed draw different noise.
 constexpr std::uint32_t kOrbitalNoiseStream = 0x4F524249U;  // "ORBI"
-
 
 Status invalid(const char* reason) noexcept { return Status(StatusCode::kInvalidArgument, reason); }
 

@@ -14,6 +14,7 @@
 namespace vtm::sim {
 
 namespace {
+
 using detail::kNoHitF;
 
 constexpr double kInvPi = 1.0 / math::kPi;

@@ -1,5 +1,6 @@
 // The renderer's sensor model (docs/sim-render.md "Sensor"): from the noise-free
-// photo-electron count a pixel collects to its digital number. Internal to vtm_sim_render.
+// photo-electron count a pixel collects to its digital number, and the two definitions the
+// renderer's sources share (kNoHitF, finiteIn). Internal to vtm_sim_render.
 #pragma once
 
 #include <cstdint>
