@@ -156,4 +156,63 @@ TEST(TemplateNcc, PruningNeverSkipsAScoreAboveTheBestAndTheKernelsAgree) {
     EXPECT_EQ(missed, 0);  // every score clearly below a best >= 0 is pruned
 }
 
+
+// The coarse search's float products (crossSumsFloatRun: fused multiply-adds on ppc750,
+// aarch64 and riscv64, a product and a sum elsewhere) against the integer pass at every
+// position of each run: equal as doubles, for windows 3..31, one and two templates, runs
+// of 1..4, on random content and on the largest values (every pixel 255, every template
+// value 255 * 256: the sums' largest magnitudes, 1.6e10 at 31 x 31).
+TEST(TemplateNcc, FloatRunsGiveTheIntegerProductsBitForBit) {
+    Random rng(11);
+    constexpr std::int32_t kSize = 48;
+    std::vector<std::uint8_t> img(kSize * kSize);
+    std::vector<float> img_f(img.size());
+    std::int64_t compared = 0;
+    for (const bool extreme : {false, true}) {
+        for (auto& v : img) {
+            v = extreme ? std::uint8_t{255} : static_cast<std::uint8_t>(rng.uniformInt(0, 255));
+        }
+        const vtm::ImageView<const std::uint8_t> to(img.data(), kSize, kSize, kSize);
+        toFloats(to, img_f.data());
+        const vtm::ImageView<const float> to_f(img_f.data(), kSize, kSize, kSize);
+        for (std::int32_t y = 0; y < kSize; ++y) {
+            for (std::int32_t x = 0; x < kSize; ++x) {
+                ASSERT_EQ(to_f.row(y)[x], static_cast<float>(to.row(y)[x]));
+            }
+        }
+        for (const std::int32_t half : {1, 5, 7, 8, 15}) {
+            const std::int32_t side = 2 * half + 1;
+            const auto n = static_cast<std::size_t>(side * side);
+            std::vector<std::uint16_t> v0(n), v1(n);
+            std::vector<float> f0(n), f1(n);
+            for (std::size_t i = 0; i < n; ++i) {
+                v0[i] = extreme ? std::uint16_t{255 * 256} : static_cast<std::uint16_t>(rng.uniformInt(0, 255 * 256));
+                v1[i] = extreme ? std::uint16_t{255 * 256} : static_cast<std::uint16_t>(rng.uniformInt(0, 255 * 256));
+            }
+            toFloats(v0.data(), static_cast<std::int32_t>(n), f0.data());
+            toFloats(v1.data(), static_cast<std::int32_t>(n), f1.data());
+            Template t{v0.data()}, u{v1.data()};
+            const Template* both[2] = {&t, &u};
+            const float* both_f[2] = {f0.data(), f1.data()};
+            for (std::int32_t trial = 0; trial < 40; ++trial) {
+                const std::int32_t run = static_cast<std::int32_t>(rng.uniformInt(1, kMaxRun));
+                const std::int32_t count = static_cast<std::int32_t>(rng.uniformInt(1, 2));
+                const Pos b{static_cast<std::int32_t>(rng.uniformInt(half, kSize - half - run)),
+                            static_cast<std::int32_t>(rng.uniformInt(half, kSize - half - 1))};
+                double runs[kMaxRun * 2] = {};
+                crossSumsFloatRun(both_f, count, to_f, b, run, half, runs);
+                for (std::int32_t k = 0; k < run; ++k) {
+                    double cross[2] = {};
+                    crossSums(both, count, to, Pos{b.x + k, b.y}, half, cross);
+                    for (std::int32_t i = 0; i < count; ++i) {
+                        ASSERT_EQ(runs[k * count + i], cross[i]) << "half " << half << " run " << run << " position " << k;
+                        ++compared;
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(compared, 400);
+}
+
 }  // namespace

@@ -376,8 +376,10 @@ struct TemplateBank {
     detail::PolylineScan* scan = nullptr;  // the matcher's (arena)
     std::uint32_t* column_sum = nullptr;     // max_width each (arena): the coarse search's
     std::uint32_t* column_sum_sq = nullptr;  // column sums (detail::ColumnSums)
+    float* float_storage = nullptr;  // kWarpHypotheses * kRaySamples * window^2: the coarse ones as floats
     Template coarse[kWarpHypotheses * kRaySamples];
     bool built[kWarpHypotheses * kRaySamples] = {};
+    bool float_made[kWarpHypotheses * kRaySamples] = {};  // its float copy too (float_storage)
 };
 
 struct LevelView {
@@ -385,6 +387,7 @@ struct LevelView {
     const ImageView<const std::uint8_t>* to;
     Pos a;              // template centre in `from` (rounded feature position)
     std::int32_t half;  // template half width
+    const ImageView<const float>* to_float;  // `to` as floats (Pyramid::coarse_float), or nullptr
 };
 
 // The first and last positions of the box's s-grid on the current row that lie in the
@@ -445,6 +448,63 @@ void scorePosition(const LevelView& v, const RaySamples& rs, TemplateBank& bank,
     }
 }
 
+// Consecutive positions of a row, first.at and the next count - 1 to its right, that share
+// their ray sample (first.vertex): their products in one pass from the float level
+// (detail::crossSumsFloatRun), then each scored in order as scorePosition would.
+struct Run {
+    Candidate first{};
+    std::int32_t count = 0;
+};
+void scoreRun(const LevelView& v, const RaySamples& rs, TemplateBank& bank, detail::ColumnSums& columns,
+              const Run& run, Best& best) noexcept {
+    const Template* templates[kWarpHypotheses];
+    const float* floats[kWarpHypotheses];
+    for (std::int32_t h = 0; h < rs.hypotheses; ++h) {
+        const std::size_t k =
+            static_cast<std::size_t>(h) * std::size_t{kRaySamples} + static_cast<std::size_t>(run.first.vertex);
+        if (!bank.built[k]) {
+            bank.coarse[k] = buildTemplate(*v.from, v.a, rs.unwarp[k], v.half, bank.storage + k * bank.stride);
+            bank.built[k] = true;
+        }
+        float* f = bank.float_storage + k * bank.stride;
+        if (!bank.float_made[k]) {
+            detail::toFloats(bank.coarse[k].values, static_cast<std::int32_t>(bank.stride), f);
+            bank.float_made[k] = true;
+        }
+        templates[h] = &bank.coarse[k];
+        floats[h] = f;
+    }
+    double cross[detail::kMaxRun * kWarpHypotheses] = {};
+    detail::crossSumsFloatRun(floats, rs.hypotheses, *v.to_float, run.first.at, run.count, v.half, cross);
+    for (std::int32_t k = 0; k < run.count; ++k) {
+        const Candidate c{Pos{run.first.at.x + k, run.first.at.y}, run.first.vertex};
+        const detail::WindowStats window = detail::windowFromColumns(columns, c.at.x, v.half);
+        for (std::int32_t h = 0; h < rs.hypotheses; ++h) {  // as scorePosition
+            const double score = detail::nccIfAbove(*templates[h], window, cross[k * rs.hypotheses + h], v.half, best.score);
+            if (score > best.score) {
+                best.score = score;
+                best.pos = c.at;
+                best.sample = h * kRaySamples + c.vertex;
+            }
+        }
+    }
+}
+
+// Adds c to the run, scoring the run first when c cannot join it (another sample, not
+// next to it, or the run full).
+void extendRun(const LevelView& v, const RaySamples& rs, TemplateBank& bank, detail::ColumnSums& columns, Candidate c,
+               Run& run, Best& best) noexcept {
+    if (run.count > 0 && (c.vertex != run.first.vertex || c.at.x != run.first.at.x + run.count ||
+                          c.at.y != run.first.at.y || run.count == detail::kMaxRun)) {
+        scoreRun(v, rs, bank, columns, run, best);
+        run.count = 0;
+    }
+    if (run.count == 0) {
+        run.first = c;
+    }
+    ++run.count;
+}
+
 // NCC over the region at one level, on the stride regionStride() gives (raster order;
 // the first of equal scores wins). Each position uses the template of its nearest sample.
 Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, double margin,
@@ -461,6 +521,7 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
     // On the unit grid the window's own sums come from column sums slid down row by row
     // (the same integers as a pass over the window); a strided grid sums each window.
     const bool slide = step == 1;
+    const bool runs = detail::kFloatProducts && slide && v.to_float != nullptr;  // constant false elsewhere
     detail::ColumnSums columns{bank.column_sum, bank.column_sum_sq, box.lo.x - v.half, box.hi.x + v.half, 0};
     for (std::int32_t y = box.lo.y; y <= box.hi.y; y += step) {
         scan.row(static_cast<double>(y));
@@ -473,13 +534,22 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
         }
         std::int32_t x_first = 0, x_last = -1;
         gridSpan(scan, box, step, x_first, x_last);
+        Run run;  // with the float level: positions wait in runs that share their templates
         for (std::int32_t x = x_first; x <= x_last; x += step) {
             const auto xd = static_cast<double>(x);
             if (!scan.within(xd)) {
                 continue;
             }
-            scorePosition(v, rs, bank, slide ? &columns : nullptr, Candidate{Pos{x, y}, scan.nearest(xd)}, best);
+            const Candidate c{Pos{x, y}, scan.nearest(xd)};
+            if (runs) {
+                extendRun(v, rs, bank, columns, c, run, best);
+            } else {
+                scorePosition(v, rs, bank, slide ? &columns : nullptr, c, best);
+            }
             ++best.evaluated;
+        }
+        if (run.count > 0) {
+            scoreRun(v, rs, bank, columns, run, best);  // before the column sums slide
         }
     }
     best.stride = step;
@@ -630,11 +700,13 @@ SearchResult search(const TemplateMatcher::Pyramid& from, const TemplateMatcher:
     for (std::int32_t i = 0; i < rs.n; ++i) {
         poly[i] = toLevel(rs.pixel[i], level);
     }
-    for (bool& b : bank.built) {
-        b = false;
+    for (std::size_t k = 0; k < std::size_t{kWarpHypotheses} * std::size_t{kRaySamples}; ++k) {
+        bank.built[k] = false;
+        bank.float_made[k] = false;
     }
     const double margin = g.margin_px / static_cast<double>(std::int32_t{1} << level) + 0.5;
-    const LevelView v{&from.level[level], &to.level[level], levelPos(pixel, level), half};
+    const LevelView v{&from.level[level], &to.level[level], levelPos(pixel, level), half,
+                      level == to.float_level ? &to.coarse_float : nullptr};
     const Best coarse = coarseSearch(v, rs, poly, margin, bank);
     if (coarse.evaluated == 0) {
         return r;
@@ -730,6 +802,31 @@ std::size_t bankValues(const MatcherConfig& c) noexcept {
     const auto w = static_cast<std::size_t>(c.template_window);
     return static_cast<std::size_t>(kWarpHypotheses * kRaySamples + 1) * w * w;
 }
+// The coarsest level as floats (Pyramid::coarse_float), per pyramid (when plansFloats()).
+std::size_t floatLevelValues(const MatcherConfig& c) noexcept {
+    std::size_t w = static_cast<std::size_t>(c.max_width);
+    std::size_t h = static_cast<std::size_t>(c.max_height);
+    for (std::int32_t l = 1; l <= c.pyramid_levels; ++l) {
+        w /= 2U;
+        h /= 2U;
+    }
+    return w * h;
+}
+// The coarse templates as floats: kWarpHypotheses * kRaySamples of window^2.
+std::size_t floatBankValues(const MatcherConfig& c) noexcept {
+    const auto w = static_cast<std::size_t>(c.template_window);
+    return static_cast<std::size_t>(kWarpHypotheses * kRaySamples) * w * w;
+}
+// The float blocks (A's and B's coarsest level, the templates): none where
+// kFloatProducts is false, and none without pyramid levels.
+bool plansFloats(const MatcherConfig& c) noexcept { return detail::kFloatProducts && c.pyramid_levels > 0; }
+std::size_t floatBlockBytes(const MatcherConfig& c) noexcept {
+    if (!plansFloats(c)) {
+        return 0U;
+    }
+    return 2U * Arena::blockBytes(floatLevelValues(c) * sizeof(float)) +
+           Arena::blockBytes(floatBankValues(c) * sizeof(float));
+}
 // The coarse search's column sums: one uint32 per column of the widest level, twice.
 std::size_t columnSumBytes(const MatcherConfig& c) noexcept {
     return static_cast<std::size_t>(c.max_width) * sizeof(std::uint32_t);
@@ -744,8 +841,10 @@ std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcep
     // Pyramid levels 1..L of A, then of B (one block each; an empty block still pads),
     // then the template bank, the polyline scan, the coarse search's column sums and the
     // forward results.
+    // Then the coarsest levels as floats (A, B) and the coarse templates as floats.
     return 2U * Arena::blockBytes(bytes == 0U ? 1U : bytes) +
            Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t)) + Arena::constructBytes<detail::PolylineScan>(1U) +
+           floatBlockBytes(config) +
            2U * Arena::blockBytes(columnSumBytes(config)) +
            Arena::constructBytes<detail::ForwardMatch>(static_cast<std::size_t>(kMaxFeatures));
 }
@@ -762,8 +861,12 @@ Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept
     columnSum_ = arena.allocateArray<std::uint32_t>(static_cast<std::size_t>(config.max_width));
     columnSumSq_ = arena.allocateArray<std::uint32_t>(static_cast<std::size_t>(config.max_width));
     forward_ = arena.construct<detail::ForwardMatch>(static_cast<std::size_t>(kMaxFeatures));
+    const bool floats = plansFloats(config);
+    floatA_ = floats ? arena.allocateArray<float>(floatLevelValues(config)) : Span<float>();
+    floatB_ = floats ? arena.allocateArray<float>(floatLevelValues(config)) : Span<float>();
+    floatBank_ = floats ? arena.allocateArray<float>(floatBankValues(config)) : Span<float>();
     if (storageA_.empty() || storageB_.empty() || bank_.empty() || scan_ == nullptr || columnSum_.empty() ||
-        columnSumSq_.empty() || forward_ == nullptr) {
+        columnSumSq_.empty() || forward_ == nullptr || (floats && (floatA_.empty() || floatB_.empty() || floatBank_.empty()))) {
         return Status(StatusCode::kOutOfMemory, "TemplateMatcher::init: arena smaller than workspaceBytes(config)",
                       static_cast<std::int64_t>(workspaceBytes(config)));
     }
@@ -775,9 +878,11 @@ Status TemplateMatcher::init(const MatcherConfig& config, Arena& arena) noexcept
 // 2x2 box average (rounded) per level; odd last rows/columns are dropped. A level is
 // usable only if it still holds a template.
 void TemplateMatcher::buildPyramid(const ImageView<const std::uint8_t>& image, Span<std::uint8_t> storage,
-                                   Pyramid& pyramid) const noexcept {
+                                   Span<float> floats, Pyramid& pyramid) const noexcept {
     pyramid.level[0] = image;
     pyramid.levels = 0;
+    pyramid.coarse_float = ImageView<const float>();
+    pyramid.float_level = -1;
     std::size_t offset = 0U;
     for (std::int32_t l = 1; l <= config_.pyramid_levels; ++l) {
         const ImageView<const std::uint8_t>& src = pyramid.level[l - 1];
@@ -791,6 +896,14 @@ void TemplateMatcher::buildPyramid(const ImageView<const std::uint8_t>& image, S
         pyramid.level[l] = ImageView<const std::uint8_t>(dst, w, h);
         pyramid.levels = l;
         offset += static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    }
+    // The coarsest level as floats when every configured level was built (its size is then
+    // the one floatLevelValues() provides for): the coarse search's products read it.
+    if (!floats.empty() && pyramid.levels == config_.pyramid_levels) {
+        const ImageView<const std::uint8_t>& top = pyramid.level[pyramid.levels];
+        detail::toFloats(top, floats.data());
+        pyramid.coarse_float = ImageView<const float>(floats.data(), top.width(), top.height());
+        pyramid.float_level = pyramid.levels;
     }
 }
 
@@ -975,8 +1088,8 @@ Status TemplateMatcher::prepare(const ImageView<const std::uint8_t>& image_a,
         return Status(StatusCode::kNotInitialized, "TemplateMatcher: init() has not succeeded");
     }
     VTM_RETURN_IF_ERROR(checkImages(config_, image_a, image_b));
-    buildPyramid(image_a, storageA_, pyramidA_);
-    buildPyramid(image_b, storageB_, pyramidB_);
+    buildPyramid(image_a, storageA_, floatA_, pyramidA_);
+    buildPyramid(image_b, storageB_, floatB_, pyramidB_);
     prepared_ = true;
     return Status::ok();
 }
@@ -1011,6 +1124,7 @@ Status TemplateMatcher::matchPrepared(const FeatureSet& features_a, const MatchP
     TemplateBank bank;
     bank.half = config_.template_window / 2;
     bank.storage = bank_.data();
+    bank.float_storage = floatBank_.data();
     bank.scan = scan_;
     bank.column_sum = columnSum_.data();
     bank.column_sum_sq = columnSumSq_.data();

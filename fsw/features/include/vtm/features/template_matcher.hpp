@@ -161,10 +161,14 @@ public:
     struct Pyramid {
         ImageView<const std::uint8_t> level[kMaxPyramidLevels + 1];
         std::int32_t levels = 0;  // usable halvings (images at least template_window wide/high)
+        // Level float_level (= pyramid_levels when all of them were built, else -1: none) as
+        // floats in the workspace, for the coarse search's products (see the .cpp).
+        ImageView<const float> coarse_float{};
+        std::int32_t float_level = -1;
     };
 
 private:
-    void buildPyramid(const ImageView<const std::uint8_t>& image, Span<std::uint8_t> storage,
+    void buildPyramid(const ImageView<const std::uint8_t>& image, Span<std::uint8_t> storage, Span<float> floats,
                       Pyramid& pyramid) const noexcept;
 
     MatcherConfig config_{};
@@ -174,7 +178,10 @@ private:
     Pyramid pyramidB_{};
     Span<std::uint8_t> storageA_{};
     Span<std::uint8_t> storageB_{};
+    Span<float> floatA_{};  // the coarsest level of each pyramid as floats
+    Span<float> floatB_{};
     Span<std::uint16_t> bank_{};  // warped templates of one search (see the .cpp)
+    Span<float> floatBank_{};     // the coarse templates as floats
     // The coarse scan's region test (private src/polyline.hpp), in the arena rather than
     // on the stack (about 1.4 KB).
     detail::PolylineScan* scan_ = nullptr;
