@@ -541,6 +541,7 @@ Best coarseSearch(const LevelView& v, const RaySamples& rs, const Vec2* poly, do
                 continue;
             }
             const Candidate c{Pos{x, y}, scan.nearest(xd)};
+            // cppcheck-suppress knownConditionTrueFalse ; false where detail::kFloatProducts is (x86-64)
             if (runs) {
                 extendRun(v, rs, bank, columns, c, run, best);
             } else {

@@ -53,6 +53,31 @@ void floatRunPass(const float* const* templates, const float* rb, std::int32_t s
     }
 }
 
+// Template columns dx .. dx + kRun - 1 against the image values w[0 .. 2 kRun - 2] (w[u + k]
+// is position k's value under column dx + u).
+template <std::size_t kCount, std::size_t kRun>
+inline void accumulateGroup(const float* const* t, std::int32_t dx, const double* w, double (*sab)[kCount]) noexcept {
+    for (std::size_t u = 0; u < kRun; ++u) {
+        for (std::size_t i = 0; i < kCount; ++i) {
+            const double tv = t[i][dx + static_cast<std::int32_t>(u)];
+            for (std::size_t k = 0; k < kRun; ++k) {
+                sab[k][i] = mulAdd(tv, w[u + k], sab[k][i]);
+            }
+        }
+    }
+}
+
+// Template column dx against the row rb: position k's value is rb[dx + k].
+template <std::size_t kCount, std::size_t kRun>
+inline void accumulateColumn(const float* const* t, std::int32_t dx, const float* rb, double (*sab)[kCount]) noexcept {
+    for (std::size_t i = 0; i < kCount; ++i) {
+        const double tv = t[i][dx];
+        for (std::size_t k = 0; k < kRun; ++k) {
+            sab[k][i] = mulAdd(tv, rb[dx + static_cast<std::int32_t>(k)], sab[k][i]);
+        }
+    }
+}
+
 // floatRunPass for a run of kRun positions with the row unrolled by kRun: the image values
 // a group of kRun template columns needs are loaded once into w (2 kRun - 1 of them, kRun
 // new per group) and each template value once; the remaining columns as floatRunPass. On
@@ -81,25 +106,13 @@ void floatRunPassUnrolled(const float* const* templates, const float* rb, std::i
             for (std::size_t k = 0; k < kRun; ++k) {
                 w[kRun - 1 + k] = rb[dx + static_cast<std::int32_t>(kRun - 1 + k)];
             }
-            for (std::size_t u = 0; u < kRun; ++u) {
-                for (std::size_t i = 0; i < kCount; ++i) {
-                    const double tv = t[i][dx + static_cast<std::int32_t>(u)];
-                    for (std::size_t k = 0; k < kRun; ++k) {
-                        sab[k][i] = mulAdd(tv, w[u + k], sab[k][i]);
-                    }
-                }
-            }
+            accumulateGroup<kCount, kRun>(t, dx, w, sab);
             for (std::size_t k = 0; k + 1 < kRun; ++k) {
                 w[k] = w[kRun + k];
             }
         }
         for (; dx < side; ++dx) {
-            for (std::size_t i = 0; i < kCount; ++i) {
-                const double tv = t[i][dx];
-                for (std::size_t k = 0; k < kRun; ++k) {
-                    sab[k][i] = mulAdd(tv, rb[dx + static_cast<std::int32_t>(k)], sab[k][i]);
-                }
-            }
+            accumulateColumn<kCount, kRun>(t, dx, rb, sab);
         }
         for (std::size_t i = 0; i < kCount; ++i) {
             t[i] += side;
