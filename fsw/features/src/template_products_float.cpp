@@ -16,39 +16,17 @@ inline double mulAdd(double a, double b, double acc) noexcept {
 #endif
 }
 
-// Position k of the run is the window whose top-left pixel is rb + k.
+// Template column dx against the row rb: position k's value is rb[dx + k].
 template <std::size_t kCount, std::size_t kRun>
-void floatRunPass(const float* const* templates, const float* rb, std::int32_t stride, std::int32_t half,
-                  double* cross) noexcept {
-    const std::int32_t side = 2 * half + 1;
-    const float* t[kCount];
-    double sab[kRun][kCount];
+inline void accumulateColumn(const float* const* t, std::int32_t dx, const float* rb, double (*sab)[kCount]) noexcept {
+    double tv[kCount];
     for (std::size_t i = 0; i < kCount; ++i) {
-        t[i] = templates[i];
-        for (std::size_t k = 0; k < kRun; ++k) {
-            sab[k][i] = 0.0;
-        }
-    }
-    for (std::int32_t dy = 0; dy < side; ++dy, rb += stride) {
-        for (std::int32_t dx = 0; dx < side; ++dx) {
-            double tv[kCount];
-            for (std::size_t i = 0; i < kCount; ++i) {
-                tv[i] = static_cast<double>(t[i][dx]);
-            }
-            for (std::size_t k = 0; k < kRun; ++k) {
-                const double vb = rb[dx + static_cast<std::int32_t>(k)];
-                for (std::size_t i = 0; i < kCount; ++i) {
-                    sab[k][i] = mulAdd(tv[i], vb, sab[k][i]);
-                }
-            }
-        }
-        for (std::size_t i = 0; i < kCount; ++i) {
-            t[i] += side;
-        }
+        tv[i] = static_cast<double>(t[i][dx]);
     }
     for (std::size_t k = 0; k < kRun; ++k) {
+        const double vb = rb[dx + static_cast<std::int32_t>(k)];
         for (std::size_t i = 0; i < kCount; ++i) {
-            cross[k * kCount + i] = sab[k][i];
+            sab[k][i] = mulAdd(tv[i], vb, sab[k][i]);
         }
     }
 }
@@ -67,26 +45,36 @@ inline void accumulateGroup(const float* const* t, std::int32_t dx, const double
     }
 }
 
-// Template column dx against the row rb: position k's value is rb[dx + k].
+// The first columns of a row in groups of kRun (accumulateGroup): the image values a group
+// needs are loaded once into w (2 kRun - 1 of them, kRun new per group) and each template
+// value once. Returns the first column not done.
 template <std::size_t kCount, std::size_t kRun>
-inline void accumulateColumn(const float* const* t, std::int32_t dx, const float* rb, double (*sab)[kCount]) noexcept {
-    for (std::size_t i = 0; i < kCount; ++i) {
-        const double tv = t[i][dx];
+std::int32_t accumulateGroups(const float* const* t, const float* rb, std::int32_t side, double (*sab)[kCount]) noexcept {
+    constexpr auto kStep = static_cast<std::int32_t>(kRun);
+    double w[2 * kRun];
+    for (std::size_t k = 0; k + 1 < kRun; ++k) {
+        w[k] = rb[k];
+    }
+    std::int32_t dx = 0;
+    for (; dx + kStep <= side; dx += kStep) {
         for (std::size_t k = 0; k < kRun; ++k) {
-            sab[k][i] = mulAdd(tv, rb[dx + static_cast<std::int32_t>(k)], sab[k][i]);
+            w[kRun - 1 + k] = rb[dx + static_cast<std::int32_t>(kRun - 1 + k)];
+        }
+        accumulateGroup<kCount, kRun>(t, dx, w, sab);
+        for (std::size_t k = 0; k + 1 < kRun; ++k) {
+            w[k] = w[kRun + k];
         }
     }
+    return dx;
 }
 
-// floatRunPass for a run of kRun positions with the row unrolled by kRun: the image values
-// a group of kRun template columns needs are loaded once into w (2 kRun - 1 of them, kRun
-// new per group) and each template value once; the remaining columns as floatRunPass. On
-// the 750 about 4.2 instructions per position and pixel at kRun 4 (floatRunPass: 5.2; a
-// register rotation of its loaded values costs a move per value and step).
-template <std::size_t kCount, std::size_t kRun>
-void floatRunPassUnrolled(const float* const* templates, const float* rb, std::int32_t stride,
-                          std::int32_t half, double* cross) noexcept {
-    constexpr auto kStep = static_cast<std::int32_t>(kRun);
+// Position k of the run is the window whose top-left pixel is rb + k. kGroups: the row's
+// columns in groups of kRun first (accumulateGroups), the rest one by one. On the 750 about
+// 4.2 instructions per position and pixel at kRun 4 with groups, 5.2 without (there a
+// register rotation of the loaded values costs a move per value and step).
+template <std::size_t kCount, std::size_t kRun, bool kGroups>
+void floatRunPass(const float* const* templates, const float* rb, std::int32_t stride, std::int32_t half,
+                  double* cross) noexcept {
     const std::int32_t side = 2 * half + 1;
     const float* t[kCount];
     double sab[kRun][kCount];
@@ -97,19 +85,9 @@ void floatRunPassUnrolled(const float* const* templates, const float* rb, std::i
         }
     }
     for (std::int32_t dy = 0; dy < side; ++dy, rb += stride) {
-        double w[2 * kRun];
-        for (std::size_t k = 0; k + 1 < kRun; ++k) {
-            w[k] = rb[k];
-        }
         std::int32_t dx = 0;
-        for (; dx + kStep <= side; dx += kStep) {
-            for (std::size_t k = 0; k < kRun; ++k) {
-                w[kRun - 1 + k] = rb[dx + static_cast<std::int32_t>(kRun - 1 + k)];
-            }
-            accumulateGroup<kCount, kRun>(t, dx, w, sab);
-            for (std::size_t k = 0; k + 1 < kRun; ++k) {
-                w[k] = w[kRun + k];
-            }
+        if constexpr (kGroups) {
+            dx = accumulateGroups<kCount, kRun>(t, rb, side, sab);
         }
         for (; dx < side; ++dx) {
             accumulateColumn<kCount, kRun>(t, dx, rb, sab);
@@ -130,16 +108,16 @@ void floatRunOf(const float* const* templates, const float* rb, std::int32_t str
                 std::int32_t half, double* cross) noexcept {
     switch (run) {
         case 4:
-            floatRunPassUnrolled<kCount, 4>(templates, rb, stride, half, cross);
+            floatRunPass<kCount, 4, true>(templates, rb, stride, half, cross);
             break;
         case 3:
-            floatRunPass<kCount, 3>(templates, rb, stride, half, cross);
+            floatRunPass<kCount, 3, false>(templates, rb, stride, half, cross);
             break;
         case 2:
-            floatRunPass<kCount, 2>(templates, rb, stride, half, cross);
+            floatRunPass<kCount, 2, false>(templates, rb, stride, half, cross);
             break;
         default:
-            floatRunPass<kCount, 1>(templates, rb, stride, half, cross);
+            floatRunPass<kCount, 1, false>(templates, rb, stride, half, cross);
             break;
     }
 }
