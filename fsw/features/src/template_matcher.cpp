@@ -805,13 +805,8 @@ std::size_t bankValues(const MatcherConfig& c) noexcept {
 }
 // The coarsest level as floats (Pyramid::coarse_float), per pyramid (when plansFloats()).
 std::size_t floatLevelValues(const MatcherConfig& c) noexcept {
-    std::size_t w = static_cast<std::size_t>(c.max_width);
-    std::size_t h = static_cast<std::size_t>(c.max_height);
-    for (std::int32_t l = 1; l <= c.pyramid_levels; ++l) {
-        w /= 2U;
-        h /= 2U;
-    }
-    return w * h;
+    return (static_cast<std::size_t>(c.max_width) >> c.pyramid_levels) *
+           (static_cast<std::size_t>(c.max_height) >> c.pyramid_levels);
 }
 // The coarse templates as floats: kWarpHypotheses * kRaySamples of window^2.
 std::size_t floatBankValues(const MatcherConfig& c) noexcept {
@@ -840,9 +835,9 @@ std::size_t TemplateMatcher::workspaceBytes(const MatcherConfig& config) noexcep
     }
     const std::size_t bytes = pyramidBytes(config);
     // Pyramid levels 1..L of A, then of B (one block each; an empty block still pads),
-    // then the template bank, the polyline scan, the coarse search's column sums and the
-    // forward results.
-    // Then the coarsest levels as floats (A, B) and the coarse templates as floats.
+    // then the template bank, the polyline scan, the coarse search's column sums, the
+    // forward results and (where plansFloats) the coarsest levels and the coarse templates
+    // as floats. Each block is padded on its own, so the sum does not depend on the order.
     return 2U * Arena::blockBytes(bytes == 0U ? 1U : bytes) +
            Arena::blockBytes(bankValues(config) * sizeof(std::uint16_t)) + Arena::constructBytes<detail::PolylineScan>(1U) +
            floatBlockBytes(config) +

@@ -77,28 +77,30 @@ void slideColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, 
 void crossSums(const Template* const* templates, std::int32_t count, const ImageView<const std::uint8_t>& to, Pos b,
                std::int32_t half, double* cross) noexcept;
 
-// The products of crossSums for a run of `run` (1..kMaxRun) positions b, b + (1, 0), ...
-// that share their templates, from float copies of the templates and the image (toFloats;
-// every value an integer below 2^24, exact in float), accumulated in doubles: each product
-// is an integer below 2^24 and each sum one below 2^53, so no operation rounds and
-// cross[k * count + i] (position k, template i) is the number crossSums gives there. Fused
-// multiply-adds where the target has them (__FP_FAST_FMA: ppc750, aarch64, riscv64), a
-// product and a sum elsewhere: the same bits. Why: on the 750 the integer pass costs eight
-// instructions a pixel for one position; this one about 15 for four (a template value
-// loaded once for the run). templates[i]: template i's values as floats (toFloats).
-constexpr std::int32_t kMaxRun = 4;
-
 // Whether the matcher's coarse search uses crossSumsFloatRun: on the scalar targets with a
 // hardware fused multiply-add (ppc750, riscv64), where it takes the rover's refine stage
-// from 5.18e9 to 3.92e9 and 4.01e9 instructions. Not on aarch64, whose integer pass GCC
+// from 5.18e9 to 3.92e9 and 4.00e9 instructions. Not on aarch64, whose integer pass GCC
 // vectorises (3.28e9 -> 3.50e9 with the float runs), nor without a fused multiply-add (x86-64:
-// the host's rover refine 271 -> 315 ms; armhf's VFPv3, leon3): those keep crossSums and
-// plan no float copies. docs/features.md "The coarse search's products in floats".
+// the host's rover refine 271 -> 315 ms with a first version of the float runs; armhf's
+// VFPv3, leon3): those keep crossSums and plan no float copies. docs/features.md "The
+// coarse search's products in floats".
 #if defined(__FP_FAST_FMA) && !defined(__aarch64__)
 constexpr bool kFloatProducts = true;
 #else
 constexpr bool kFloatProducts = false;
 #endif
+
+// The products of crossSums for a run of `run` (1..kMaxRun) positions b, b + (1, 0), ...
+// that share their templates, from float copies of the templates and the image (toFloats;
+// every value an integer below 2^24, exact in float), accumulated in doubles: each product
+// is an integer below 2^24 and each sum one below 2^53, so no operation rounds and
+// cross[k * count + i] (position k, template i) is the number crossSums gives there. Fused
+// multiply-adds where the target has them (__FP_FAST_FMA), a product and a sum elsewhere:
+// the same bits (the kernel is built and tested on every target, used where
+// kFloatProducts). Why: on the 750 the integer pass costs eight instructions a pixel for
+// one position; this one about 17 for four (a template value loaded once for the run).
+// templates[i]: template i's values as floats (toFloats).
+constexpr std::int32_t kMaxRun = 4;
 void crossSumsFloatRun(const float* const* templates, std::int32_t count, const ImageView<const float>& to, Pos b,
                        std::int32_t run, std::int32_t half, double* cross) noexcept;
 

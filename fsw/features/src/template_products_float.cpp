@@ -7,7 +7,7 @@ namespace vtm::features::detail {
 namespace {
 
 // acc + a b, fused where the target has a fast fused multiply-add. Exact for the values of
-// crossSumsFloat either way (no rounding), so the same bits on every target.
+// crossSumsFloatRun either way (no rounding), so the same bits on every target.
 inline double mulAdd(double a, double b, double acc) noexcept {
 #if defined(__FP_FAST_FMA)
     return __builtin_fma(a, b, acc);
