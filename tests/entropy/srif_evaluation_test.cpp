@@ -75,6 +75,22 @@ struct MiParams {
     double angle = 0.0, logScale = 0.0, tx = 0.0, ty = 0.0, score = -1.0;
 };
 
+// Narrows [lo, hi] to the x where 0 <= slope x + offset <= limit may hold, widened by 2 px
+// so that rounding cannot drop a column the exact test would keep. A slope of about zero
+// leaves the range to the exact test.
+void clipRow(double slope, double offset, double limit, std::int32_t& lo, std::int32_t& hi) {
+    if (std::fabs(slope) < 1e-9) {
+        return;
+    }
+    double a = -offset / slope, b = (limit - offset) / slope;
+    if (a > b) {
+        std::swap(a, b);
+    }
+    const auto column = [](double v) { return static_cast<std::int32_t>(std::clamp(v, -8.0, 1.0e6)); };
+    lo = std::max(lo, column(std::floor(a)) - 2);
+    hi = std::min(hi, column(std::ceil(b)) + 2);
+}
+
 class MutualInformation {
 public:
     MutualInformation(const ImageView<const std::uint8_t>& a, const ImageView<const std::uint8_t>& b) {
@@ -116,7 +132,11 @@ public:
         std::vector<std::int32_t> joint(32 * 32, 0);
         std::int32_t n = 0;
         for (std::int32_t y = 0; y < h1; ++y) {
-            for (std::int32_t x = 0; x < w1; ++x) {
+            // Only the columns whose sample can land in image 2 (the test below still decides).
+            std::int32_t x_lo = 0, x_hi = w1 - 1;
+            clipRow(c, vx - sn * y, w2 - 1, x_lo, x_hi);
+            clipRow(sn, vy + c * y, h2 - 1, x_lo, x_hi);
+            for (std::int32_t x = x_lo; x <= x_hi; ++x) {
                 const double px = c * x - sn * y + vx;
                 const double py = sn * x + c * y + vy;
                 if (px < 0.0 || py < 0.0 || px > w2 - 1 || py > h2 - 1) {
