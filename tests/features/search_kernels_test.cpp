@@ -5,6 +5,8 @@
 // (and every product downstream) would change.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -84,6 +86,51 @@ TEST(PolylineScan, GivesTheSameVertexAndMembershipAsThePlainFunctions) {
     // Both answers were exercised.
     EXPECT_GT(within, tested / 20);
     EXPECT_LT(within, tested - tested / 20);
+}
+
+// The rover's rays: long, nearly horizontal polylines (vertices a few pixels apart in x),
+// asked at every position of a row and at the points where two vertices are equally far
+// (and a rounding step either side), where the row's envelope hands over to the walk.
+TEST(PolylineScan, TheEnvelopeGivesTheSameVertexAsThePlainFunctionEverywhereAlongARow) {
+    Random rng(7);
+    std::int64_t asked = 0;
+    for (std::int32_t trial = 0; trial < 60; ++trial) {
+        const auto n = static_cast<std::int32_t>(rng.uniformInt(2, kMaxPolylineVertices));
+        const Vec2 start(rng.uniform01() * 300.0, rng.uniform01() * 300.0);
+        const double dx = 0.5 + rng.uniform01() * 8.0;
+        const double slope = (rng.uniform01() * 2.0 - 1.0) * (trial % 3 == 0 ? 3.0 : 0.3);
+        std::vector<Vec2> poly;
+        for (std::int32_t i = 0; i < n; ++i) {
+            poly.emplace_back(start.x() + dx * i + 0.1 * rng.uniform01(), start.y() + slope * dx * i + 0.5 * rng.uniform01());
+        }
+        const double margin = 3.0 + rng.uniform01() * 30.0;
+        PolylineScan scan;
+        scan.set(poly.data(), n, margin * margin);
+        for (std::int32_t y = static_cast<std::int32_t>(start.y()) - 40; y < static_cast<std::int32_t>(start.y()) + 40; ++y) {
+            scan.row(static_cast<double>(y));
+            std::vector<double> xs;
+            for (std::int32_t x = static_cast<std::int32_t>(start.x()) - 40; x < static_cast<std::int32_t>(start.x() + dx * n) + 40; ++x) {
+                xs.push_back(x);
+            }
+            for (std::int32_t i = 0; i < n; ++i) {
+                for (std::int32_t j = i + 1; j < n; ++j) {
+                    const double dyi = y - poly[static_cast<std::size_t>(i)].y(), dyj = y - poly[static_cast<std::size_t>(j)].y();
+                    const double xi = poly[static_cast<std::size_t>(i)].x(), xj = poly[static_cast<std::size_t>(j)].x();
+                    const double meet = 0.5 * (xi + xj) + (dyj * dyj - dyi * dyi) / (2.0 * (xj - xi));
+                    for (const double d : {0.0, 1e-12, -1e-12, 1e-6, -1e-6, 1e-3, -1e-3}) {
+                        xs.push_back(meet + d * (1.0 + std::fabs(meet)));
+                    }
+                }
+            }
+            std::sort(xs.begin(), xs.end());  // in increasing x, as the search asks
+            for (const double x : xs) {
+                ASSERT_EQ(scan.nearest(x), nearestVertex(Vec2(x, y), poly.data(), n))
+                    << "trial " << trial << " at " << x << ", " << y;
+                ++asked;
+            }
+        }
+    }
+    EXPECT_GT(asked, 100000);
 }
 
 TEST(TemplateNcc, PruningNeverSkipsAScoreAboveTheBestAndTheKernelsAgree) {

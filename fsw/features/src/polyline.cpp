@@ -142,6 +142,14 @@ void PolylineScan::set(const Vec2* poly, std::int32_t n, double limit_sq) noexce
         sorted_x_[j] = poly[i].x();
         by_x_[j] = i;
     }
+    // The envelope's condition: neighbours by x at least kMinVertexGapX apart, or the same point.
+    spread_ = finite_;
+    for (std::int32_t k = 1; k < n_ && spread_; ++k) {
+        const Vec2& a = poly[by_x_[k - 1]];
+        const Vec2& b = poly[by_x_[k]];
+        spread_ = b.x() - a.x() >= kMinVertexGapX || (b.x() == a.x() && b.y() == a.y());
+    }
+    piece_count_ = 0;
 }
 
 // The sure interval of one segment on this row, kept sorted by lo (insertion, at most 32).
@@ -199,9 +207,69 @@ void PolylineScan::row(double y) noexcept {
         }
     }
     mergeSure();
+    setPieces();
 }
 
-bool PolylineScan::within(double x) noexcept {
+// The lower envelope of the lines -2 x_i x + x_i^2 + dy_i^2 over the vertices sorted by x
+// (each vertex nearer than its left neighbours right of where it meets them), then each
+// piece shrunk by tol at its inner ends and clipped to the span (polyline.hpp).
+void PolylineScan::setPieces() noexcept {
+    piece_count_ = 0;
+    piece_at_ = 0;
+    double lo = 0.0, hi = 0.0;
+    span(lo, hi);
+    if (!spread_ || n_ == 0 || !(lo <= hi) || !std::isfinite(y_)) {
+        return;
+    }
+    double reach = std::max(std::fabs(lo), std::fabs(hi));
+    double max_dy2 = 0.0;
+    for (std::int32_t i = 0; i < n_; ++i) {
+        reach = std::max(reach, std::fabs(poly_[i].x()));
+        max_dy2 = std::max(max_dy2, dy2_[i]);
+    }
+    // Every squared distance the walk compares for x in [lo, hi] is at most `big`, so its
+    // rounding is below 1e-15 big; inside a piece, tol from its ends, the next nearest
+    // vertex is farther by at least 2 kMinVertexGapX (tol - the ends' own rounding) > eps.
+    const double big = 4.0 * reach * reach + max_dy2;
+    const double eps = 1e-12 * (1.0 + big);
+    const double tol = eps / (2.0 * kMinVertexGapX) + 1e-9 * (1.0 + reach + max_dy2 / kMinVertexGapX);
+    std::int32_t vertex[kMaxPolylineVertices];
+    double start[kMaxPolylineVertices];  // where vertex[k] becomes the nearest
+    std::int32_t count = 0;
+    for (std::int32_t k = 0; k < n_; ++k) {  // bound: n_ <= 33; each vertex pushed once, popped at most once
+        const std::int32_t i = by_x_[k];
+        const double xi = poly_[i].x();
+        if (count > 0 && xi == poly_[vertex[count - 1]].x()) {
+            continue;  // the same point as a lower index (spread_): that one wins the tie
+        }
+        double meet = -std::numeric_limits<double>::infinity();
+        while (count > 0) {  // bound: pops at most the count - 1 vertices pushed before
+            const std::int32_t j = vertex[count - 1];
+            const double xj = poly_[j].x();
+            meet = 0.5 * (xj + xi) + (dy2_[i] - dy2_[j]) / (2.0 * (xi - xj));
+            if (count > 1 && meet <= start[count - 1]) {
+                --count;  // j is nowhere the nearest
+                continue;
+            }
+            break;
+        }
+        vertex[count] = i;
+        start[count] = count == 0 ? -std::numeric_limits<double>::infinity() : meet;
+        ++count;
+    }
+    for (std::int32_t k = 0; k < count; ++k) {
+        const double a = k == 0 ? lo : std::max(lo, start[k] + tol);
+        const double b = k + 1 == count ? hi : std::min(hi, start[k + 1] - tol);
+        if (a <= b) {
+            piece_lo_[piece_count_] = a;
+            piece_hi_[piece_count_] = b;
+            piece_vertex_[piece_count_] = vertex[k];
+            ++piece_count_;
+        }
+    }
+}
+
+bool PolylineScan::withinSlow(double x) noexcept {
     if (n_ == 0) {
         return false;
     }
@@ -261,7 +329,22 @@ void PolylineScan::span(double& lo, double& hi) const noexcept {
     }
 }
 
-std::int32_t PolylineScan::nearest(double x) noexcept {
+std::int32_t PolylineScan::nearestSlow(double x) noexcept {
+    if (piece_count_ > 0) {
+        // The positions of a row come in increasing x: the piece from the last one's.
+        std::int32_t p = x < piece_lo_[piece_at_] ? 0 : piece_at_;
+        while (p + 1 < piece_count_ && x >= piece_lo_[p + 1]) {  // bound: piece_count_ <= 33
+            ++p;
+        }
+        piece_at_ = p;
+        if (x >= piece_lo_[p] && x <= piece_hi_[p]) {
+            return piece_vertex_[p];
+        }
+    }
+    return nearestByWalk(x);
+}
+
+std::int32_t PolylineScan::nearestByWalk(double x) noexcept {
     if (n_ == 0) {
         return 0;
     }

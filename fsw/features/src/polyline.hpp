@@ -13,6 +13,8 @@ namespace vtm::features::detail {
 
 // The most vertices a polyline has (the matcher's ray samples).
 constexpr std::int32_t kMaxPolylineVertices = 33;
+// PolylineScan's envelope needs its vertices at least this far apart in x (pixels).
+constexpr double kMinVertexGapX = 1e-2;
 
 // Index of the vertex of poly[0..n) nearest to p (the first of equal distances).
 [[nodiscard]] std::int32_t nearestVertex(const Vec2& p, const Vec2* poly, std::int32_t n) noexcept;
@@ -31,7 +33,15 @@ constexpr std::int32_t kMaxPolylineVertices = 33;
 // outside which it cannot be within; the distances to the vertices reuse the row's
 // (y - v.y)^2; nearest() walks the vertices sorted by x outwards from x and stops on each
 // side where (x - v.x)^2 alone is farther than the best, skipping a vertex whose row term
-// alone is no nearer (equal distances: the lower index, as nearestVertex()).
+// alone is no nearer (equal distances: the lower index, as nearestVertex()). Before the
+// walk it looks x up in the row's pieces: along a row the squared distance to vertex i is
+// x^2 plus a line in x, -2 x_i x + x_i^2 + dy_i^2, so the nearest vertex is the lower
+// envelope of those lines (row(): O(n), the vertices being sorted by x). Each piece is
+// shrunk at both ends by far more than the rounding of the distances and of its ends
+// (vertices at least kMinVertexGapX apart in x, distances bounded by the row's span), so
+// inside a piece its vertex is the strict nearest whatever the rounding: the walk's
+// answer. A position near a piece's end, outside the span, or on a polyline whose vertices
+// are not that far apart in x (a near-vertical ray) takes the walk.
 class PolylineScan {
 public:
     void set(const Vec2* poly, std::int32_t n, double limit_sq) noexcept;
@@ -39,16 +49,31 @@ public:
     // Not const: within() remembers the segment that last held the position (tried first
     // next time: any segment answers the same), nearest() where the last answer lay in
     // the vertices sorted by x.
-    [[nodiscard]] bool within(double x) noexcept;
+    [[nodiscard]] bool within(double x) noexcept {
+        // Inline: most positions of a search lie in the sure interval of the last one.
+        const std::int32_t h = sure_hint_;
+        return (h < sure_count_ && x >= sure_lo_[h] && x <= sure_hi_[h]) || withinSlow(x);
+    }
     // After row(): an interval [lo, hi] of x outside which within(x) is certainly false on
     // this row (the first vertex's reach and the active segments' intervals); lo > hi when
     // no position of the row can be within. NaN vertices: the whole line.
     void span(double& lo, double& hi) const noexcept;
-    [[nodiscard]] std::int32_t nearest(double x) noexcept;
+    [[nodiscard]] std::int32_t nearest(double x) noexcept {
+        // Inline: most positions of a search lie in the piece of the last one.
+        const std::int32_t p = piece_at_;
+        if (p < piece_count_ && x >= piece_lo_[p] && x <= piece_hi_[p]) {
+            return piece_vertex_[p];
+        }
+        return nearestSlow(x);
+    }
 
 private:
     void addSure(const Vec2& a, const Vec2& b, double length) noexcept;
     void mergeSure() noexcept;
+    void setPieces() noexcept;
+    [[nodiscard]] bool withinSlow(double x) noexcept;
+    [[nodiscard]] std::int32_t nearestSlow(double x) noexcept;
+    [[nodiscard]] std::int32_t nearestByWalk(double x) noexcept;
 
     const Vec2* poly_ = nullptr;
     std::int32_t n_ = 0;
@@ -74,6 +99,14 @@ private:
     double sorted_x_[kMaxPolylineVertices] = {};    // their x
     std::int32_t hint_ = 0;                         // nearest(): where the last x fell in sorted_x_
     bool finite_ = true;                            // every vertex finite (else the plain loop)
+    // The envelope (setPieces()): vertices apart by at least kMinVertexGapX in x (exact
+    // repeats of a vertex aside); this row's pieces, sorted, and the last one looked up.
+    bool spread_ = false;
+    double piece_lo_[kMaxPolylineVertices] = {};
+    double piece_hi_[kMaxPolylineVertices] = {};
+    std::int32_t piece_vertex_[kMaxPolylineVertices] = {};
+    std::int32_t piece_count_ = 0;
+    std::int32_t piece_at_ = 0;
 };
 
 }  // namespace vtm::features::detail

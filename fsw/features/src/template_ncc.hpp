@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "vtm/core/image.hpp"
+#include "vtm/core/math.hpp"
 
 namespace vtm::features::detail {
 
@@ -70,7 +71,39 @@ void slideColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, 
 
 // The window around (x, c.y) from the column sums: the same WindowStats as
 // windowAndCrossSums gives there (slid from the last window when that was at x - 1).
-[[nodiscard]] WindowStats windowFromColumns(ColumnSums& c, std::int32_t x, std::int32_t half) noexcept;
+// Inline, with nccIfAbove(): the coarse search calls them for every position.
+[[nodiscard]] inline double windowCount(std::int32_t half) noexcept {
+    const std::int32_t side = 2 * half + 1;
+    return static_cast<double>(side * side);
+}
+
+// A window's WindowStats from its exact sums of b and b^2.
+[[nodiscard]] inline WindowStats statsOf(std::uint32_t sb, std::uint32_t sbb, std::int32_t half) noexcept {
+    const double s = static_cast<double>(sb);
+    return WindowStats{s, windowCount(half) * static_cast<double>(sbb) - s * s};
+}
+
+[[nodiscard]] inline WindowStats windowFromColumns(ColumnSums& c, std::int32_t x, std::int32_t half) noexcept {
+    const std::int32_t side = 2 * half + 1;
+    const std::int32_t left = x - half - c.x0;  // index of the window's first column
+    std::uint32_t sb = 0U, sbb = 0U;            // at most 961 * 255^2 = 6.2e7
+    if (c.window_held && x == c.window_x + 1) {
+        // Modulo 2^32 like slideColumnSums: the result fits.
+        sb = c.window_sum + c.sum[left + side - 1] - c.sum[left - 1];
+        sbb = c.window_sum_sq + c.sum_sq[left + side - 1] - c.sum_sq[left - 1];
+    } else {
+        for (std::int32_t i = 0; i < side; ++i) {
+            sb += c.sum[left + i];
+            sbb += c.sum_sq[left + i];
+        }
+    }
+    c.window_x = x;
+    c.window_held = true;
+    c.window_sum = sb;
+    c.window_sum_sq = sbb;
+    return statsOf(sb, sbb, half);
+}
+
 
 // The window's sums of products with `count` (1 or 2) templates only (its own sums come
 // from windowFromColumns): cross[i] as windowAndCrossSums gives it.
@@ -119,8 +152,23 @@ constexpr double kNotAbove = -2.0;
 // nccFromSums(), or kNotAbove when the NCC is certainly not above `best` (never for a
 // negative best): decided without the square root, with a margin far above the rounding
 // of either side, so a search keeping the first score above its best keeps the same best.
-[[nodiscard]] double nccIfAbove(const Template& t, const WindowStats& w, double cross, std::int32_t half,
-                                double best) noexcept;
+[[nodiscard]] inline double nccIfAbove(const Template& t, const WindowStats& w, double cross, std::int32_t half, double best) noexcept {
+    if (!(t.var > 0.0) || !(w.var > 0.0)) {
+        return 0.0;
+    }
+    // n cross <= 961 * 1.6e10 and t.sum * w.sum <= 6.3e7 * 2.5e5: both below 2^53, exact.
+    const double cov = windowCount(half) * cross - t.sum * w.sum;
+    // ncc > best >= 0 needs cov > 0 and cov^2 > best^2 var_t var_w, up to a few roundings
+    // (1e-16 each): below that (with a margin of 1e-9) the root is not taken.
+    if (best >= 0.0 && !(cov > 0.0)) {
+        return kNotAbove;
+    }
+    const double p = t.var * w.var;
+    if (best >= 0.0 && !(cov * cov >= (best * best) * p * (1.0 - 1e-9))) {
+        return kNotAbove;
+    }
+    return cov / math::sqrt(p);
+}
 
 // NCC of the template with the window around b (which must fit).
 [[nodiscard]] double ncc(const Template& t, const ImageView<const std::uint8_t>& to, Pos b, std::int32_t half) noexcept;
