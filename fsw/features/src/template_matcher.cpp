@@ -475,12 +475,15 @@ void scoreRun(const LevelView& v, const RaySamples& rs, TemplateBank& bank, deta
         floats[h] = f;
     }
     double cross[detail::kMaxRun * kWarpHypotheses] = {};
-    detail::crossSumsFloatRun(floats, rs.hypotheses, *v.to_float, run.first.at, run.count, v.half, cross);
+    // A local copy: the stores to `columns` below could alias v.half, which would be read
+    // (and converted to double) again at every position.
+    const std::int32_t half = v.half;
+    detail::crossSumsFloatRun(floats, rs.hypotheses, *v.to_float, run.first.at, run.count, half, cross);
     for (std::int32_t k = 0; k < run.count; ++k) {
         const Candidate c{Pos{run.first.at.x + k, run.first.at.y}, run.first.vertex};
-        const detail::WindowStats window = detail::windowFromColumns(columns, c.at.x, v.half);
+        const detail::WindowStats window = detail::windowFromColumns(columns, c.at.x, half);
         for (std::int32_t h = 0; h < rs.hypotheses; ++h) {  // as scorePosition
-            const double score = detail::nccIfAbove(*templates[h], window, cross[k * rs.hypotheses + h], v.half, best.score);
+            const double score = detail::nccIfAbove(*templates[h], window, cross[k * rs.hypotheses + h], half, best.score);
             if (score > best.score) {
                 best.score = score;
                 best.pos = c.at;
