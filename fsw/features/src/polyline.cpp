@@ -254,7 +254,7 @@ void PolylineScan::setPieces() noexcept {
             break;
         }
         vertex[count] = i;
-        start[count] = count == 0 ? -std::numeric_limits<double>::infinity() : meet;
+        start[count] = meet;  // -inf for the first vertex (nothing to meet)
         ++count;
     }
     for (std::int32_t k = 0; k < count; ++k) {

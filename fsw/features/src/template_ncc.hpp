@@ -69,9 +69,8 @@ void setColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, st
 // Moves c from centre row c.y to c.y + 1 (the row y + 1 + half must lie in the image).
 void slideColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, std::int32_t half) noexcept;
 
-// The window around (x, c.y) from the column sums: the same WindowStats as
-// windowAndCrossSums gives there (slid from the last window when that was at x - 1).
-// Inline, with nccIfAbove(): the coarse search calls them for every position.
+// windowFromColumns() and nccIfAbove() are inline: the coarse search calls them for every
+// position. The number of pixels of a window of half width `half`:
 [[nodiscard]] inline double windowCount(std::int32_t half) noexcept {
     const std::int32_t side = 2 * half + 1;
     return static_cast<double>(side * side);
@@ -83,6 +82,8 @@ void slideColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, 
     return WindowStats{s, windowCount(half) * static_cast<double>(sbb) - s * s};
 }
 
+// The window around (x, c.y) from the column sums: the same WindowStats as
+// windowAndCrossSums gives there (slid from the last window when that was at x - 1).
 [[nodiscard]] inline WindowStats windowFromColumns(ColumnSums& c, std::int32_t x, std::int32_t half) noexcept {
     const std::int32_t side = 2 * half + 1;
     const std::int32_t left = x - half - c.x0;  // index of the window's first column
@@ -103,7 +104,6 @@ void slideColumnSums(ColumnSums& c, const ImageView<const std::uint8_t>& image, 
     c.window_sum_sq = sbb;
     return statsOf(sb, sbb, half);
 }
-
 
 // The window's sums of products with `count` (1 or 2) templates only (its own sums come
 // from windowFromColumns): cross[i] as windowAndCrossSums gives it.
@@ -152,7 +152,8 @@ constexpr double kNotAbove = -2.0;
 // nccFromSums(), or kNotAbove when the NCC is certainly not above `best` (never for a
 // negative best): decided without the square root, with a margin far above the rounding
 // of either side, so a search keeping the first score above its best keeps the same best.
-[[nodiscard]] inline double nccIfAbove(const Template& t, const WindowStats& w, double cross, std::int32_t half, double best) noexcept {
+[[nodiscard]] inline double nccIfAbove(const Template& t, const WindowStats& w, double cross, std::int32_t half,
+                                       double best) noexcept {
     if (!(t.var > 0.0) || !(w.var > 0.0)) {
         return 0.0;
     }
